@@ -1,0 +1,204 @@
+// The World: bodies, forces, the step, queries and events. Creation by def struct, value
+// handles back. Every public call validates its input and throws grip::Error naming the bad
+// field; a call that throws leaves the world as it was.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "collision/narrowphase.hpp"
+#include "collision/query.hpp"
+#include "collision/shape.hpp"
+#include "core/error.hpp"
+#include "core/hash.hpp"
+#include "core/id.hpp"
+
+namespace grip {
+
+struct BodyTag;
+using BodyId = Id<BodyTag>;
+
+enum class BodyType : uint8_t { Static, Kinematic, Dynamic };
+
+// How addForce/addForceAtPosition/addTorque interpret their vector (Unity/PhysX semantics):
+//   Force          N, integrated over the next step (a = F/m).       Accumulates until step.
+//   Acceleration   m/s^2, like Force but ignores mass (F = m a).      Accumulates until step.
+//   Impulse        N s, changes velocity now (dv = J/m).
+//   VelocityChange m/s, changes velocity now, ignoring mass (dv = v).
+// For torques the same holds with the inertia tensor in place of the mass.
+enum class ForceMode : uint8_t { Force, Acceleration, Impulse, VelocityChange };
+
+// Friction and restitution of a surface. When two bodies touch, frictions combine by the
+// geometric mean sqrt(a*b) (as Box2D and Bullet do) and restitution by the maximum.
+struct MaterialDef {
+  double staticFriction = 0.6;
+  double dynamicFriction = 0.5;  // must not exceed staticFriction
+  double restitution = 0.0;
+  double density = 1000.0;  // kg/m^3, used when BodyDef.mass is 0
+};
+
+struct BodyDef {
+  BodyType type = BodyType::Dynamic;
+  ShapePtr shape;
+  MaterialDef material;
+  Vec3 position = Vec3::Zero();  // of the body origin (the shape frame)
+  Quat orientation = Quat::Identity();
+  Vec3 linearVelocity = Vec3::Zero();   // of the centre of mass
+  Vec3 angularVelocity = Vec3::Zero();  // world frame
+  double mass = 0.0;  // > 0 overrides density (inertia scaled to match); 0: from density
+  double linearDamping = 0.0;   // 1/s
+  double angularDamping = 0.0;  // 1/s
+  double gravityScale = 1.0;
+  bool isSensor = false;  // reports overlaps, never makes contact constraints
+  bool allowSleep = true;
+  bool isAwake = true;
+  uint64_t userData = 0;
+  std::string name;
+};
+
+struct WorldDef {
+  Vec3 gravity = Vec3(0.0, -9.81, 0.0);
+  int substeps = 4;          // solver substeps per step (soft step solver)
+  int relaxIterations = 1;   // velocity passes without position bias per substep
+  double contactHertz = 30.0;         // contact stiffness (capped at a quarter substep rate)
+  double contactDampingRatio = 10.0;  // heavily damped: no bounce from position correction
+  double maxPushoutVelocity = 3.0;    // m/s, cap on the speed that resolves overlap
+  double restitutionThreshold = 1.0;  // m/s, slower impacts do not bounce
+  double speculativeDistance = 0.02;  // m, contacts made this far before touching
+  double linearSlop = 0.005;          // m, overlap allowed to persist (keeps contact warm)
+  double stickVelocity = 0.01;  // m/s, tangential speed below which a contact may stick again
+  bool enableSleep = true;
+  double sleepLinearVelocity = 0.05;   // m/s
+  double sleepAngularVelocity = 0.05;  // rad/s
+  double timeToSleep = 0.5;            // s below the thresholds before an island sleeps
+  double maxLinearSpeed = 400.0;       // m/s, a guard against blow-ups
+};
+
+struct ContactEvent {
+  BodyId a, b;
+  Vec3 point = Vec3::Zero();
+  Vec3 normal = Vec3::UnitY();  // from a to b
+  double approachSpeed = 0.0;   // normal closing speed at begin (m/s)
+};
+
+struct SensorEvent {
+  BodyId sensor, visitor;
+};
+
+struct WorldRayHit {
+  BodyId body;
+  RayHit hit;
+};
+
+struct OverlapHit {
+  BodyId body;
+  Manifold manifold;  // normal points from the query shape to the body
+};
+
+// Per-step work counters, for benchmarks and the "skip what a scene doesn't need" checks.
+struct StepStats {
+  int awakeBodies = 0;
+  int candidatePairs = 0;
+  int manifolds = 0;
+  int contactPoints = 0;
+  int islands = 0;
+  int sleepingIslands = 0;
+};
+
+class World {
+ public:
+  explicit World(const WorldDef& def = WorldDef{});
+  ~World();
+  World(const World&) = delete;
+  World& operator=(const World&) = delete;
+
+  BodyId createBody(const BodyDef& def);
+  void destroyBody(BodyId id);
+  bool isValid(BodyId id) const;
+
+  // Advances the world by dt seconds.
+  void step(double dt);
+
+  // Forces. Force and Acceleration accumulate until the next step; Impulse and
+  // VelocityChange act at once. Each wakes the body. Static and kinematic bodies ignore them.
+  void addForce(BodyId id, const Vec3& force, ForceMode mode = ForceMode::Force);
+  void addForceAtPosition(BodyId id, const Vec3& force, const Vec3& worldPoint,
+                          ForceMode mode = ForceMode::Force);
+  void addTorque(BodyId id, const Vec3& torque, ForceMode mode = ForceMode::Force);
+  // The force and torque (about the centre of mass) accumulated for the next step.
+  Vec3 accumulatedForce(BodyId id) const;
+  Vec3 accumulatedTorque(BodyId id) const;
+
+  // Body state.
+  BodyType bodyType(BodyId id) const;
+  Transform pose(BodyId id) const;       // of the body origin
+  Vec3 centerOfMass(BodyId id) const;    // world
+  Vec3 localCenterOfMass(BodyId id) const;
+  Vec3 linearVelocity(BodyId id) const;  // of the centre of mass
+  Vec3 angularVelocity(BodyId id) const;
+  Vec3 velocityAtPoint(BodyId id, const Vec3& worldPoint) const;
+  double mass(BodyId id) const;          // 0 for static and kinematic bodies
+  double inverseMass(BodyId id) const;
+  Mat3 inertiaWorld(BodyId id) const;    // about the centre of mass
+  Mat3 inverseInertiaWorld(BodyId id) const;
+  const Shape& shape(BodyId id) const;
+  ShapePtr shapePtr(BodyId id) const;
+  const MaterialDef& material(BodyId id) const;
+  const std::string& name(BodyId id) const;
+  uint64_t userData(BodyId id) const;
+  bool isAwake(BodyId id) const;
+  bool isSensor(BodyId id) const;
+  Aabb bounds(BodyId id) const;
+
+  void setPose(BodyId id, const Vec3& position, const Quat& orientation);
+  void setLinearVelocity(BodyId id, const Vec3& v);
+  void setAngularVelocity(BodyId id, const Vec3& w);
+  // Kinematic bodies: set the velocities that carry the body to `target` over dt.
+  void moveKinematic(BodyId id, const Vec3& position, const Quat& orientation, double dt);
+  void setMaterial(BodyId id, const MaterialDef& m);
+  void wake(BodyId id);
+
+  // Queries (sensors are skipped by ray casts and overlaps).
+  std::optional<WorldRayHit> rayCast(const Vec3& origin, const Vec3& dir,
+                                     double maxDistance) const;
+  // Ray cast against one body only (child: one compound child, or -1 for all).
+  std::optional<RayHit> rayCastBody(BodyId id, const Vec3& origin, const Vec3& dir,
+                                    double maxDistance, int child = -1) const;
+  // Bodies (and their children) within `margin` of `shape` placed at `t`, ordered by body.
+  void overlap(const Shape& shape, const Transform& t, double margin,
+               std::vector<OverlapHit>& hits) const;
+  SurfacePoint closestPoint(BodyId id, const Vec3& worldPoint) const;
+
+  // Events of the last step, in a deterministic order.
+  const std::vector<ContactEvent>& contactBeginEvents() const;
+  const std::vector<ContactEvent>& contactEndEvents() const;
+  const std::vector<SensorEvent>& sensorBeginEvents() const;
+  const std::vector<SensorEvent>& sensorEndEvents() const;
+
+  // Every body id alive, in creation-slot order.
+  std::vector<BodyId> bodies() const;
+  int bodyCount() const;
+  // Contact constraints the solver handled in the last step (points, and manifolds).
+  int contactConstraintCount() const;
+  const StepStats& stats() const;
+  const WorldDef& def() const;
+  void setGravity(const Vec3& g);
+  Vec3 gravity() const;
+  double time() const;
+  uint64_t stepCount() const;
+
+  // Hash of every body's pose and velocities (bit exact).
+  uint64_t stateHash() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+// Kinetic plus gravitational potential energy of the dynamic bodies (J).
+double totalEnergy(const World& w);
+
+}  // namespace grip
