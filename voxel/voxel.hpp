@@ -117,6 +117,11 @@ DenseGrid signedDistanceLattice(const Mesh& mesh, const Vec3& origin, double spa
 std::vector<AssetData::Box> mergeVoxels(const std::vector<uint8_t>& occupied,
                                         const std::array<int, 3>& size);
 
+// The same mesh in a canonical order: vertices sorted by position, each triangle starting at
+// its smallest index (orientation kept), triangles sorted. CGAL's output order can depend on
+// memory addresses; canonical order makes every later step (and the asset) deterministic.
+Mesh canonicalMesh(Mesh mesh);
+
 // Built-in procedural objects (metres, Y up): "mug", "axe", "torus", "l-block", "figurine".
 // Primitives are joined with CGAL's exact corefinement, so the results are closed and manifold.
 std::vector<std::string> builtinNames();

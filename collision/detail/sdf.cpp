@@ -147,15 +147,20 @@ double SignedDistanceField::distanceAndNormal(const Vec3& local, Vec3& n) const 
         g += w * Vec3(s[z][y][x + 1] - s[z][y][x - 1], s[z][y + 1][x] - s[z][y - 1][x],
                       s[z + 1][y][x] - s[z - 1][y][x]);
       }
+  g /= 2.0 * d_.spacing;  // central differences -> gradient (|g| ~ 1 near the surface)
   const Vec3 out = local - c;
   const double outside = out.norm();
   if (outside > 0.0) {
-    // Beyond the lattice the field continues as (distance at the box) + (distance to the box).
-    n = out / outside;
+    // Beyond the lattice the field continues as (distance at the box) + (distance to the box);
+    // its gradient takes the clamped axes from the offset and the others from the lattice.
+    const Vec3 u = out / outside;
+    for (int a = 0; a < 3; ++a)
+      if (out[a] != 0.0) g[a] = u[a];
+    n = g.normalized();
     return dist + outside;
   }
   const double len = g.norm();
-  if (len > 1e-12 * d_.band) {
+  if (len > 1e-9) {
     n = g / len;
   } else {
     // On a plateau of the clamped band there is no gradient: point away from the centre

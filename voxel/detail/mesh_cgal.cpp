@@ -132,7 +132,7 @@ Mesh fromSurfaceMesh(SurfaceMesh m) {
     if (k != 3) throw Error("mesh", "internal: a face is not a triangle after triangulation");
     out.triangles.push_back(t);
   }
-  return out;
+  return canonicalMesh(std::move(out));
 }
 
 // The repair pipeline on a polygon soup. `name` prefixes every message.

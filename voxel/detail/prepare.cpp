@@ -116,6 +116,9 @@ SignedDistanceField::Data makeSdf(const Mesh& mesh, const DenseGrid& g, double b
   s.bricks.assign(
       static_cast<size_t>(nb[0]) * static_cast<size_t>(nb[1]) * static_cast<size_t>(nb[2]),
       SignedDistanceField::kOutside);
+  // The lattice holds floats clamped to the band: compare with a hair less than the band so a
+  // clamped value (rounded to float) never counts as inside it.
+  const double inBand = band * (1.0 - 1e-6);
   size_t at = 0;
   int32_t stored = 0;
   for (int bz = 0; bz < nb[2]; ++bz)
@@ -126,7 +129,7 @@ SignedDistanceField::Data makeSdf(const Mesh& mesh, const DenseGrid& g, double b
           for (int y = 0; y < B && !touches; ++y)
             for (int x = 0; x < B && !touches; ++x) {
               const double v = g.at(bx * B + x, by * B + y, bz * B + z);
-              if (std::abs(v) < band) touches = true;
+              if (std::abs(v) < inBand) touches = true;
               inside = v < 0.0;
             }
         if (!touches) {
@@ -175,7 +178,9 @@ AssetData prepare(const Mesh& mesh, const PrepOptions& opt, PrepStats* stats) {
   requirePositive(h, "voxel size");
 
   progress("voxelizing", 0.0);
-  const int margin = static_cast<int>(std::ceil(opt.bandVoxels)) + 1;
+  // The lattice reaches past the band so that distance queries around the object stay on it
+  // (past the lattice only the distance to its box is added).
+  const int margin = static_cast<int>(std::ceil(opt.bandVoxels)) + 1 + SignedDistanceField::kBrick;
   double hs = h;
   if (opt.sdfMaxResolution > 0) hs = std::max(h, box.extent().maxCoeff() / opt.sdfMaxResolution);
   const bool sameLattice = hs == h;

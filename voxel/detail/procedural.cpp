@@ -1,6 +1,7 @@
 // Built-in concave test objects, made from simple closed primitives (surfaces of revolution,
 // swept tubes, boxes, ellipsoids) joined by CGAL's exact union (meshUnion). Sizes in metres,
 // Y up, resting on y = 0 where it makes sense.
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <iomanip>
@@ -195,6 +196,32 @@ Mesh figurine() {
 }
 
 }  // namespace
+
+Mesh canonicalMesh(Mesh m) {
+  std::vector<int> order(m.vertices.size());
+  for (size_t i = 0; i < order.size(); ++i) order[i] = static_cast<int>(i);
+  auto key = [&](int i) {
+    const Vec3& p = m.vertices[static_cast<size_t>(i)];
+    return std::array<double, 3>{p.x(), p.y(), p.z()};
+  };
+  std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return key(a) < key(b); });
+  std::vector<int> newIndex(order.size());
+  Mesh out;
+  out.vertices.reserve(order.size());
+  for (size_t i = 0; i < order.size(); ++i) {
+    newIndex[static_cast<size_t>(order[i])] = static_cast<int>(i);
+    out.vertices.push_back(m.vertices[static_cast<size_t>(order[i])]);
+  }
+  out.triangles.reserve(m.triangles.size());
+  for (const auto& t : m.triangles) {
+    std::array<int, 3> r{newIndex[static_cast<size_t>(t[0])], newIndex[static_cast<size_t>(t[1])],
+                         newIndex[static_cast<size_t>(t[2])]};
+    while (r[0] > r[1] || r[0] > r[2]) r = {r[1], r[2], r[0]};  // rotation keeps orientation
+    out.triangles.push_back(r);
+  }
+  std::sort(out.triangles.begin(), out.triangles.end());
+  return out;
+}
 
 std::vector<std::string> builtinNames() {
   return {"mug", "axe", "torus", "l-block", "figurine"};

@@ -3,6 +3,7 @@
 #include <openvdb/io/File.h>
 #include <openvdb/openvdb.h>
 #include <openvdb/tools/MeshToVolume.h>
+#include <tbb/global_control.h>
 
 #include <algorithm>
 #include <cmath>
@@ -42,6 +43,10 @@ DenseGrid signedDistanceLattice(const Mesh& mesh, const Vec3& origin, double spa
     tris.emplace_back(static_cast<uint32_t>(t[0]), static_cast<uint32_t>(t[1]),
                       static_cast<uint32_t>(t[2]));
 
+  // One thread: OpenVDB grows the narrow band from neighbouring voxels' closest triangles, so
+  // with several threads the candidates a voxel sees (and the last bits of its distance) depend
+  // on scheduling. Assets must be bit-identical from run to run.
+  tbb::global_control serial(tbb::global_control::max_allowed_parallelism, 1);
   auto xform = openvdb::math::Transform::createLinearTransform(spacing);
   openvdb::FloatGrid::Ptr grid = openvdb::tools::meshToLevelSet<openvdb::FloatGrid>(
       *xform, points, tris, static_cast<float>(bandVoxels));
