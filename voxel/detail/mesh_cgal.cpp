@@ -16,6 +16,8 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -87,6 +89,57 @@ void checkOffHeader(const std::string& path, uintmax_t fileBytes) {
     throw Error(path, "truncated: the header claims " + std::to_string(static_cast<long long>(nv)) +
                           " vertices and " + std::to_string(static_cast<long long>(nf)) +
                           " faces but the file has only " + std::to_string(fileBytes) + " bytes");
+}
+
+// After a failed parse of a text mesh: the line of the first number that is not finite ("nan",
+// "inf", "1e400"), or 0. CGAL's readers just fail on those; this names the problem.
+size_t firstNonFiniteLine(const std::string& path) {
+  std::ifstream f(path);
+  std::string line;
+  for (size_t n = 1; std::getline(f, line) && n < 100'000'000; ++n) {
+    std::istringstream ls(line);
+    std::string word;
+    while (ls >> word) {
+      char* end = nullptr;
+      const double v = std::strtod(word.c_str(), &end);
+      if (end != word.c_str() && *end == '\0' && !std::isfinite(v)) return n;
+    }
+  }
+  return 0;
+}
+
+// An ASCII STL must end with "endsolid"; a binary one must hold 84 + 50 n bytes.
+void checkStl(const std::string& path, uintmax_t bytes) {
+  std::ifstream f(path, std::ios::binary);
+  std::string head(5, '\0');
+  f.read(head.data(), 5);
+  if (head == "solid") {
+    std::ifstream t(path);
+    std::string word, last;
+    bool ended = false;
+    while (t >> word) {
+      if (word == "facet") ended = false;
+      if (word == "endsolid") ended = true;
+      last = word;
+    }
+    if (!ended && bytes >= 84) {
+      // Might still be a binary STL whose header starts with "solid".
+      f.seekg(80);
+      uint32_t n = 0;
+      f.read(reinterpret_cast<char*>(&n), 4);
+      if (84 + 50ull * n == bytes) return;
+    }
+    if (!ended) throw Error(path, "truncated: ASCII STL without a final \"endsolid\"");
+    return;
+  }
+  if (bytes < 84) throw Error(path, "truncated: too short for a binary STL header");
+  f.seekg(80);
+  uint32_t n = 0;
+  f.read(reinterpret_cast<char*>(&n), 4);
+  if (84 + 50ull * n != bytes)
+    throw Error(path, "truncated or malformed binary STL: " + std::to_string(n) +
+                          " triangles need " + std::to_string(84 + 50ull * n) +
+                          " bytes, the file has " + std::to_string(bytes));
 }
 
 double signedVolume(const SurfaceMesh& m) {
@@ -297,6 +350,7 @@ Mesh loadMesh(const std::string& path, const RepairOptions& options, MeshReport*
   const uintmax_t bytes = std::filesystem::file_size(path, ec);
   if (ec || bytes == 0) throw Error(path, "empty file");
   if (ext == "off") checkOffHeader(path, bytes);
+  if (ext == "stl") checkStl(path, bytes);
   std::vector<Point> points;
   std::vector<Polygon> polygons;
   bool ok = false;
@@ -305,7 +359,11 @@ Mesh loadMesh(const std::string& path, const RepairOptions& options, MeshReport*
   } catch (const std::exception& e) {
     throw Error(path, std::string("cannot parse (") + e.what() + ")");
   }
-  if (!ok) throw Error(path, "cannot parse as " + ext + " (malformed or truncated)");
+  if (!ok) {
+    if (const size_t line = firstNonFiniteLine(path); line > 0)
+      throw Error(path, "non-finite number on line " + std::to_string(line));
+    throw Error(path, "cannot parse as " + ext + " (malformed or truncated)");
+  }
   MeshReport local;
   return repairSoup(std::move(points), std::move(polygons), path, options,
                     report ? *report : local);
