@@ -28,6 +28,14 @@ struct CoreDistance {
 // GJK distance between two cores (fixed iteration cap, deterministic).
 CoreDistance coreDistance(const Core& a, const Core& b);
 
+// Closest point of a core to the point x (distance 0 with overlap set when x is inside).
+CoreDistance pointDistance(const Core& a, const Vec3& x);
+
+// Ray cast against a convex shape in its own frame, rounding included (GJK ray cast).
+// Starting inside gives t = 0 and a zero normal. dir is unit length.
+bool convexRayCast(const Shape& s, const Vec3& origin, const Vec3& dir, double maxDistance,
+                   double& t, Vec3& normal);
+
 struct CorePenetration {
   bool ok = false;
   double depth = 0.0;           // >= 0
