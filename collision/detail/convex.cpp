@@ -155,6 +155,7 @@ CoreDistance gjk(const SupportA& supportA, const SupportB& supportB, Vec3 d) {
   Simplex s;
   Vec3 v = supportB(-d) - supportA(d);
   double vv = v.squaredNorm();
+  if (vv > 0.0) out.direction = v / std::sqrt(vv);
   for (int iter = 0; iter < 64; ++iter) {
     Vertex w;
     w.a = supportA(v);
@@ -176,6 +177,7 @@ CoreDistance gjk(const SupportA& supportA, const SupportB& supportB, Vec3 d) {
       out.overlap = true;
       return out;
     }
+    out.direction = nv / std::sqrt(nvv);
     if (nvv >= vv && s.n > 1) {  // rounding: stop at the best so far
       v = nv;
       vv = nvv;

@@ -23,6 +23,9 @@ struct CoreDistance {
   bool overlap = false;  // the cores intersect (distance 0): use corePenetration
   double distance = 0.0;
   Vec3 pointA = Vec3::Zero(), pointB = Vec3::Zero();  // closest points on the cores
+  // Unit direction A to B of the last non-zero GJK estimate; zero if there was none. When
+  // the cores merely touch this is the contact normal, where EPA's answer is arbitrary.
+  Vec3 direction = Vec3::Zero();
 };
 
 // GJK distance between two cores (fixed iteration cap, deterministic).

@@ -308,6 +308,20 @@ bool planeConvex(const Shape& plane, const Transform& tp, const Shape& s, const 
   return k > 0;
 }
 
+// Calls consider(k) for each outward face normal k of a box or hull, times `sign`.
+template <class F>
+void faceAxes(const Shape& s, const Transform& t, double sign, F&& consider) {
+  if (s.type() == ShapeType::Box) {
+    for (int k = 0; k < 3; ++k) {
+      const Vec3 axis = t.rotate(Vec3::Unit(k)) * sign;
+      consider(axis);
+      consider(-axis);
+    }
+  } else if (s.type() == ShapeType::ConvexHull) {
+    for (const auto& f : s.hull().faces) consider(t.rotate(f.normal) * sign);
+  }
+}
+
 // Any two convex shapes: GJK distance between the cores (or libccd penetration when they
 // overlap) gives the normal; the supporting features are then clipped into a manifold when a
 // face is the separating axis, else the single closest-point pair is used.
@@ -325,16 +339,28 @@ bool convexGeneric(const Shape& a, const Transform& ta, const Shape& b, const Tr
     pos = 0.5 * ((dist.pointA + rA * n) + (dist.pointB - rB * n));
   } else {
     const detail::CorePenetration pen = detail::corePenetration(ca, cb);
-    if (pen.ok) {
-      n = pen.normal;
-      sep = -pen.depth - rA - rB;
-      pos = pen.point;
-    } else {  // libccd gave up (degenerate touching): push apart along the centres
+    // Keep the candidate axis along which the cores overlap least. libccd's answer is used
+    // when it is self-consistent; when the cores merely touch EPA returns an arbitrary
+    // direction, and the GJK direction or a face normal is the right axis.
+    double best = -std::numeric_limits<double>::infinity();
+    n = Vec3::UnitY();
+    auto consider = [&](const Vec3& k) {
+      const double s = k.dot(cb.support(-k) - ca.support(k));
+      if (s > best) best = s, n = k;
+    };
+    if (pen.ok) consider(pen.normal);
+    if (!pen.ok || std::abs(best + pen.depth) > 1e-6 + 1e-3 * pen.depth) {
+      if (dist.direction.squaredNorm() > 0.0) consider(dist.direction);
+      faceAxes(a, ta, 1.0, consider);
+      faceAxes(b, tb, -1.0, consider);
+    }
+    if (best == -std::numeric_limits<double>::infinity()) {  // nothing usable: centre line
       const Vec3 d = cb.center() - ca.center();
       n = d.squaredNorm() > 0.0 ? Vec3(d.normalized()) : Vec3(Vec3::UnitY());
-      sep = -rA - rB;
-      pos = 0.5 * (ca.center() + cb.center());
+      best = 0.0;
     }
+    sep = std::min(best, 0.0) - rA - rB;
+    pos = pen.ok ? pen.point : Vec3(0.5 * (ca.center() + cb.center()));
   }
   m.normal = n;
 
