@@ -66,15 +66,14 @@ void supportingFeature(const Shape& s, const Transform& t, const Vec3& dir, Feat
         if (x > bestD) bestD = x, best = f;
       }
       const auto& face = h.faces[best];
-      if (static_cast<int>(face.vertices.size()) > Feature::kMax) {
-        // Too many corners for the clipper: fall back to the single support vertex.
-        int bv = 0;
-        for (int i = 1; i < static_cast<int>(h.vertices.size()); ++i)
-          if (h.vertices[i].dot(d) > h.vertices[bv].dot(d)) bv = i;
-        out.add(t.apply(h.vertices[bv]), static_cast<uint32_t>(bv));
-        return;
+      // A face with more corners than the clipper holds (a finely tessellated cylinder cap)
+      // is represented by evenly spaced corners: still convex, nearly the same area.
+      const int nv = static_cast<int>(face.vertices.size());
+      const int step = (nv + Feature::kMax - 1) / Feature::kMax;
+      for (int i = 0; i < nv; i += step) {
+        const int v = face.vertices[i];
+        out.add(t.apply(h.vertices[v]), static_cast<uint32_t>(v));
       }
-      for (int v : face.vertices) out.add(t.apply(h.vertices[v]), static_cast<uint32_t>(v));
       out.normal = t.rotate(face.normal);
       out.face = static_cast<uint32_t>(best);
       return;

@@ -448,7 +448,9 @@ int collide(const Shape& a, const Transform& ta, const Shape& b, const Transform
             std::vector<Manifold>& out) {
   if (a.type() == ShapeType::Compound) {
     // Each overlapping child of A against all of B (B may be a compound too).
-    std::vector<uint32_t> kids;
+    // Scratch reused across calls (no allocation once warm); never re-entered, as children
+    // are not compounds.
+    thread_local std::vector<uint32_t> kids;
     overlappingChildren(a, b.bounds(ta.inverse() * tb).inflated(margin), kids);
     int total = 0;
     for (uint32_t i : kids) {

@@ -457,3 +457,22 @@ TEST(Generic, RandomBoxPairsAgreeWithSat) {
   }
   EXPECT_GT(compared, 200);
 }
+
+TEST(Generic, CylinderHullRestingOnItsCapGetsFourPoints) {
+  // 64-sided caps exceed the clipper's polygon size: the face is subsampled, not dropped.
+  std::vector<Vec3> pts;
+  for (int i = 0; i < 64; ++i) {
+    const double a = 2 * kPi * i / 64;
+    pts.emplace_back(0.3 * std::cos(a), -0.2, 0.3 * std::sin(a));
+    pts.emplace_back(0.3 * std::cos(a), 0.2, 0.3 * std::sin(a));
+  }
+  auto cyl = Shape::convexHull(pts);
+  auto ground = Shape::plane(Vec3::UnitY(), 0.0);
+  Manifold m = collideOne(ground, at(Vec3::Zero()), cyl, at(Vec3(0, 0.19, 0)), 0.0);
+  EXPECT_EQ(m.pointCount, 4);
+  m = collideOne(kUnitBox, at(Vec3::Zero()), cyl, at(Vec3(0, 0.69, 0)), 0.0);
+  ASSERT_EQ(m.pointCount, 4);
+  expectNormal(m, Vec3::UnitY(), 1e-9);
+  for (int i = 0; i < 4; ++i) EXPECT_NEAR(m.points[i].separation, -0.01, 1e-9);
+  EXPECT_GT(quadArea(m, m.normal), 0.15);  // the inscribed square of r = 0.3 has area 0.18
+}
