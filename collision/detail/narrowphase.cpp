@@ -15,10 +15,11 @@ namespace {
 using detail::Core;
 using detail::Feature;
 
-// Face axes win ties with edge axes (and A's faces with B's) unless clearly worse: this keeps
-// resting boxes on stable face manifolds instead of flickering to edge contacts.
-bool clearlyBetter(double candidate, double best) {
-  return candidate > best + 0.05 * std::abs(best) + 5e-4;
+// Face axes win ties with edge axes (and A's faces with B's) unless clearly better: this keeps
+// resting boxes on stable face manifolds instead of flickering to edge contacts. `slop` is an
+// absolute tolerance that scales down for small boxes.
+bool clearlyBetter(double candidate, double best, double slop) {
+  return candidate > best + 0.05 * std::abs(best) + slop;
 }
 
 void flip(Manifold& m) {
@@ -210,9 +211,10 @@ bool boxBox(const Shape& a, const Transform& ta, const Shape& b, const Transform
     }
   }
 
-  const bool useB = clearlyBetter(sepB, sepA);
+  const double slop = std::min(5e-4, 0.02 * std::min(hA.minCoeff(), hB.minCoeff()));
+  const bool useB = clearlyBetter(sepB, sepA, slop);
   const double faceSep = useB ? sepB : sepA;
-  if (!clearlyBetter(sepE, faceSep)) {
+  if (!clearlyBetter(sepE, faceSep, slop)) {
     Feature ref, inc;
     if (!useB) {
       const Vec3 n = RA.col(axisA) * (d[axisA] >= 0.0 ? 1.0 : -1.0);

@@ -476,3 +476,33 @@ TEST(Generic, CylinderHullRestingOnItsCapGetsFourPoints) {
   for (int i = 0; i < 4; ++i) EXPECT_NEAR(m.points[i].separation, -0.01, 1e-9);
   EXPECT_GT(quadArea(m, m.normal), 0.15);  // the inscribed square of r = 0.3 has area 0.18
 }
+
+TEST(BoxBox, BoxOnItsEdgeGivesTwoPoints) {
+  const double e = 0.5 * std::sqrt(2.0);
+  Manifold m = collideOne(kUnitBox, at(Vec3::Zero()), kUnitBox,
+                          at(Vec3(0.1, 0.5 + e - 0.01, 0.2), rot(kPi / 4, Vec3::UnitZ())), 0.02);
+  ASSERT_EQ(m.pointCount, 2);
+  expectNormal(m, Vec3::UnitY(), 1e-12);
+  for (int i = 0; i < 2; ++i) {
+    EXPECT_NEAR(m.points[i].separation, -0.01, 1e-12);
+    EXPECT_NEAR(m.points[i].position.x(), 0.1, 1e-12);  // along the edge, under it
+  }
+  // B's edge spans z in [-0.3, 0.7]; A's top face clips it at z = 0.5.
+  EXPECT_NEAR(std::min(m.points[0].position.z(), m.points[1].position.z()), -0.3, 1e-12);
+  EXPECT_NEAR(std::max(m.points[0].position.z(), m.points[1].position.z()), 0.5, 1e-12);
+}
+
+TEST(BoxBox, SmallTiltedDiceStayOnTheirFaces) {
+  // 1 cm dice: the face-axis bias must shrink with the size.
+  auto die = Shape::box(Vec3(0.005, 0.005, 0.005));
+  Manifold m = collideOne(die, at(Vec3::Zero()), die,
+                          at(Vec3(0.001, 0.00995, 0.0), rot(0.02, Vec3::UnitX())), 0.001);
+  ASSERT_EQ(m.pointCount, 4);
+  expectNormal(m, Vec3::UnitY(), 1e-12);
+  // A die standing on an edge of another (crossed edges) is an edge-edge contact.
+  const double e = 0.005 * std::sqrt(2.0);
+  m = collideOne(die, at(Vec3::Zero(), rot(kPi / 4, Vec3::UnitZ())), die,
+                 at(Vec3(0, 2 * e - 1e-4, 0), rot(kPi / 4, Vec3::UnitX())), 0.001);
+  ASSERT_EQ(m.pointCount, 1);
+  EXPECT_NEAR(m.points[0].separation, -1e-4, 1e-12);
+}
