@@ -63,11 +63,19 @@ void supportingFeature(const Shape& s, const Transform& t, const Vec3& dir, Feat
     case ShapeType::ConvexHull: {
       const Vec3 d = t.rotateInverse(dir);
       const ConvexHullData& h = s.hull();
-      int best = 0;
+      // The face must contain the extreme vertex (the deepest point): among the faces around
+      // that vertex take the one most aligned with d. The globally most aligned face can miss
+      // it on irregular hulls.
+      int sv = 0;
+      for (int i = 1; i < static_cast<int>(h.vertices.size()); ++i)
+        if (h.vertices[i].dot(d) > h.vertices[sv].dot(d)) sv = i;
+      int best = -1;
       double bestD = -std::numeric_limits<double>::infinity();
       for (int f = 0; f < static_cast<int>(h.faces.size()); ++f) {
         const double x = h.faces[f].normal.dot(d);
-        if (x > bestD) bestD = x, best = f;
+        if (x <= bestD) continue;
+        const auto& fv = h.faces[f].vertices;
+        if (std::find(fv.begin(), fv.end(), sv) != fv.end()) bestD = x, best = f;
       }
       const auto& face = h.faces[best];
       // A face with more corners than the clipper holds (a finely tessellated cylinder cap)

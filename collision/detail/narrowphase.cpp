@@ -397,8 +397,13 @@ bool convexGeneric(const Shape& a, const Transform& ta, const Shape& b, const Tr
     if (faceSep >= sep - (1e-4 + 1e-3 * std::abs(sep))) {
       Manifold trial = m;
       trial.normal = refIsA ? faceN : Vec3(-faceN);
-      if (detail::clipFeatures(ref, inc, refIsA, refIsA ? rA : rB, refIsA ? rB : rA, margin,
-                               trial) > 0) {
+      const int count =
+          detail::clipFeatures(ref, inc, refIsA, refIsA ? rA : rB, refIsA ? rB : rA, margin, trial);
+      // Accept only if the clipped polygon keeps the deepest point (it always should; this
+      // guards against a degenerate incident face).
+      double deepest = std::numeric_limits<double>::infinity();
+      for (int i = 0; i < count; ++i) deepest = std::min(deepest, trial.points[i].separation);
+      if (count > 0 && deepest <= faceSep + 1e-6 + 1e-3 * std::abs(faceSep)) {
         m = trial;
         return true;
       }
