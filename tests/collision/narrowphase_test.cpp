@@ -550,8 +550,20 @@ TEST(Generic, RandomHullPenetrationMatchesBruteForceSat) {
     qa.normalize(), qb.normalize();
     const Transform ta{Vec3::Zero(), qa}, tb{Vec3(u(), u(), u()) * 0.9, qb};
     const double exact = bruteForceSat(*a, ta, *b, tb);
-    if (exact > 0.0) continue;  // separated: SAT only bounds the distance
     Manifold m;
+    if (exact > 0.0) {
+      // Separated: SAT only bounds the distance from below. The reported normal must be an
+      // axis along which the gap equals the reported (GJK) separation.
+      if (!collideConvex(*a, ta, *b, tb, 0.05, m)) continue;
+      double gap = std::numeric_limits<double>::infinity();
+      for (int i = 0; i < m.pointCount; ++i) gap = std::min(gap, m.points[i].separation);
+      double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+      for (const Vec3& v : b->hull().vertices) lo = std::min(lo, tb.apply(v).dot(m.normal));
+      for (const Vec3& v : a->hull().vertices) hi = std::max(hi, ta.apply(v).dot(m.normal));
+      EXPECT_NEAR(gap, lo - hi, 1e-9) << k;
+      EXPECT_GE(gap, exact - 1e-9) << k;
+      continue;
+    }
     ASSERT_TRUE(collideConvex(*a, ta, *b, tb, 0.05, m)) << k;
     double deepest = 0.0;
     for (int i = 0; i < m.pointCount; ++i) deepest = std::min(deepest, m.points[i].separation);
