@@ -378,6 +378,7 @@ bool convexGeneric(const Shape& a, const Transform& ta, const Shape& b, const Tr
     }
     sep = std::min(best, 0.0) - rA - rB;
     pos = pen.ok ? pen.point : Vec3(0.5 * (ca.center() + cb.center()));
+    if (sep >= margin) return false;  // exactly touching with a zero margin
   }
   m.normal = n;
 
