@@ -322,23 +322,77 @@ SurfacePoint closestShape(const Shape& s, const Transform& t, const Vec3& x) {
   return sp;
 }
 
+// True when `p` (compound space, on child `skip`'s surface with outward normal `n`) is not on
+// the union's surface: strictly inside another child, or on another child's face that
+// opposes n (a face shared between voxel boxes).
+bool buried(const Shape& s, const Vec3& p, const Vec3& n, uint32_t skip) {
+  bool hidden = false;
+  s.tree().query(Aabb{p, p}.inflated(1e-9), [&](int32_t j) {
+    if (hidden || static_cast<uint32_t>(j) == skip) return;
+    const CompoundChild& c = s.children()[j];
+    const SurfacePoint sp = closestShape(*c.shape, c.local, p);
+    hidden = sp.distance < -1e-9 || (sp.distance < 1e-9 && sp.normal.dot(n) < 0.0);
+  });
+  return hidden;
+}
+
+// For x inside child i (compound space): its face planes as candidate exits, nearest first
+// among those that are on the union's surface. Boxes and hulls only; false if none qualifies.
+bool exposedExit(const Shape& s, uint32_t i, const Vec3& x, SurfacePoint& out) {
+  const CompoundChild& c = s.children()[i];
+  const Shape& shape = *c.shape;
+  const Vec3 xl = c.local.applyInverse(x);
+  bool found = false;
+  auto consider = [&](const Vec3& nl, double offset) {
+    const double depth = offset + shape.radius() - nl.dot(xl);
+    if (found && depth >= -out.distance) return;
+    const Vec3 n = c.local.rotate(nl);
+    const Vec3 p = c.local.apply(xl + depth * nl);
+    if (buried(s, p, n, i)) return;
+    out = {p, n, -depth, i};
+    found = true;
+  };
+  if (shape.type() == ShapeType::Box) {
+    for (int k = 0; k < 3; ++k) {
+      consider(Vec3::Unit(k), shape.halfExtents()[k]);
+      consider(-Vec3::Unit(k), shape.halfExtents()[k]);
+    }
+  } else if (shape.type() == ShapeType::ConvexHull) {
+    for (const auto& f : shape.hull().faces) consider(f.normal, f.offset);
+  }
+  return found;
+}
+
 }  // namespace
 
 SurfacePoint closestPoint(const Shape& s, const Transform& t, const Vec3& x) {
   requireFinite(x, "closestPoint.x");
   if (s.type() != ShapeType::Compound) return closestShape(s, t, x);
   // The union's signed distance is the smallest of the children's (exact outside them).
+  // Inside, a child's nearest face may be shared with a neighbour (voxel boxes) and so not
+  // on the union's surface: then the nearest exposed face plane of the containing children
+  // is used (an approximation; a baked SDF gives exact answers).
   // TODO(sdf): answer from s.sdf() once collision/sdf.hpp exists.
+  const Vec3 xl = t.applyInverse(x);
   SurfacePoint best;
   best.distance = kInf;
   for (uint32_t i = 0; i < s.children().size(); ++i) {
     const CompoundChild& c = s.children()[i];
-    SurfacePoint sp = closestShape(*c.shape, t * c.local, x);
-    if (sp.distance < best.distance) {
-      best = sp;
-      best.child = i;
-    }
+    SurfacePoint sp = closestShape(*c.shape, c.local, xl);  // compound space
+    sp.child = i;
+    if (sp.distance < best.distance) best = sp;
   }
+  if (best.distance < 0.0 && buried(s, best.point, best.normal, best.child)) {
+    SurfacePoint exit, candidate;
+    exit.distance = -kInf;
+    for (uint32_t i = 0; i < s.children().size(); ++i) {
+      if (!s.children()[i].shape->bounds(s.children()[i].local).contains(xl)) continue;
+      if (exposedExit(s, i, xl, candidate) && candidate.distance > exit.distance) exit = candidate;
+    }
+    if (exit.distance > -kInf) best = exit;
+  }
+  best.point = t.apply(best.point);
+  best.normal = t.rotate(best.normal);
   return best;
 }
 

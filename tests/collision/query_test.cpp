@@ -164,3 +164,20 @@ TEST(ClosestPoint, CompoundNearestChildAndCenters) {
   EXPECT_TRUE(childCenter(*tet, at(Vec3::Zero()), 0).isApprox(Vec3(0.25, 0.25, 0.25), 1e-12));
   EXPECT_THROW(childCenter(*c, at(Vec3::Zero()), 2), Error);
 }
+
+TEST(ClosestPoint, CompoundSkipsFacesSharedBetweenChildren) {
+  // Two boxes sharing the face x = 0: from inside the left box near that face, the nearest
+  // point of the union's surface is on the top (y = 0.5), not on the buried shared face.
+  auto cube = Shape::box(Vec3(0.5, 0.5, 0.5));
+  auto c = Shape::compound({{cube, at(Vec3(-0.5, 0, 0))}, {cube, at(Vec3(0.5, 0, 0))}});
+  const Transform t = at(Vec3(1, 2, 3), rot(0.5, Vec3(1, 0, 1)));
+  const SurfacePoint sp = closestPoint(*c, t, t.apply(Vec3(-0.05, 0.3, 0)));
+  EXPECT_NEAR(sp.distance, -0.2, 1e-12);
+  EXPECT_EQ(sp.child, 0u);
+  EXPECT_TRUE(sp.normal.isApprox(t.rotate(Vec3::UnitY()), 1e-12));
+  EXPECT_TRUE(sp.point.isApprox(t.apply(Vec3(-0.05, 0.5, 0)), 1e-12));
+  // Deep in the right box, its own nearest face (+x) is exposed and wins.
+  const SurfacePoint r = closestPoint(*c, t, t.apply(Vec3(0.9, 0.1, 0)));
+  EXPECT_NEAR(r.distance, -0.1, 1e-12);
+  EXPECT_EQ(r.child, 1u);
+}
