@@ -1,4 +1,6 @@
 // `grip prep`: turns a mesh (OFF, OBJ, STL, PLY) or a built-in object into a runtime asset.
+// Built only with the offline library (GRIP_BUILD_VOXEL=ON, which defines GRIP_HAVE_VOXEL).
+#ifdef GRIP_HAVE_VOXEL
 #include <chrono>
 #include <cstdio>
 #include <iostream>
@@ -137,3 +139,5 @@ Command addPrepCommand(CLI::App& app) {
 }
 
 }  // namespace grip::cli
+
+#endif  // GRIP_HAVE_VOXEL
