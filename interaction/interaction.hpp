@@ -45,6 +45,10 @@ struct InteractionDef {
   SlipLaw slipLaw = SlipLaw::KineticCoulomb;
   ContactPointMethod contactPoint = ContactPointMethod::Auto;
   SpringIntegration integration = SpringIntegration::Implicit;
+  // Let the implicit spring know about the World's own contact forces on a body (measured over
+  // the last step), so that a body resting on a floor gets exactly gamma * depth. Off: gravity
+  // and host forces only.
+  bool observedExternalForce = true;
   double gamma = 400.0;            // N/m per bone contact (split over the patch samples)
   double contactOffset = 0.005;    // m: a contact begins within this distance of a body
   double releaseMargin = 0.005;    // m: ...and ends beyond contactOffset + releaseMargin

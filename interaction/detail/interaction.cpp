@@ -67,6 +67,16 @@ struct Hand {
   Vec3 palmAngularVelocity = Vec3::Zero();
 };
 
+// What the last update saw of a touched body, to estimate the forces the World applied to it
+// since (gravity, contacts with other bodies): M dV/dt minus the forces that were accumulated.
+struct BodyMemory {
+  BodyId body;
+  uint64_t step = 0;  // World::stepCount() at that update
+  double time = 0.0;
+  Vec3 v = Vec3::Zero(), w = Vec3::Zero();
+  Vec3 force = Vec3::Zero(), torque = Vec3::Zero();  // accumulated after our forces
+};
+
 struct Attachment {
   BodyId body;
   uint32_t hand = 0;
@@ -94,6 +104,7 @@ struct Interaction::Impl {
   std::vector<Contact> contacts;  // sorted by (body, hand, bone) after each update
   std::vector<std::pair<BodyId, BodyInteractionDef>> overrides;  // sorted by body
   std::vector<Attachment> attachments;
+  std::vector<BodyMemory> memory, nextMemory;  // sorted by body
   std::vector<HandContactEvent> beginEvents, endEvents;
   std::vector<std::pair<BodyId, Vec3>> applied;  // per touched body, sorted
   InteractionStats stats;
@@ -164,6 +175,7 @@ struct Interaction::Impl {
   void slideSample(const World& w, const Transform& body, Contact& c, Sample& s, const Vec3& shift,
                    double offset);
   double gripForce(const World& w, uint32_t hand, BodyId body, bool& opposing) const;
+  void externalForces(const World& w, BodyId body, RigidBodyState& s) const;
 };
 
 // Tracking frames become the poses this update uses. A hand without a new frame keeps its last
@@ -240,6 +252,17 @@ void Interaction::Impl::findContacts(const World& w) {
         }
         --i;
         if (!bestPoint) continue;
+        // A bone lying along a face touches it along a line: take the middle of the points
+        // about as deep as the deepest, not one end.
+        Vec3 nearPoint = Vec3::Zero();
+        int nearCount = 0;
+        for (int k = 0; k < best->pointCount; ++k) {
+          if (best->points[k].separation <= bestPoint->separation + 1e-3) {
+            nearPoint += best->points[k].position;
+            ++nearCount;
+          }
+        }
+        nearPoint /= nearCount;
         auto it = std::find_if(contacts.begin(), contacts.end(), [&](const Contact& c) {
           return c.hand == hi && c.bone == bone && c.body == body;
         });
@@ -253,14 +276,14 @@ void Interaction::Impl::findContacts(const World& w) {
           contacts.push_back(c);
           it = contacts.end() - 1;
           it->fresh = true;
-          it->point = bestPoint->position + 0.5 * bestPoint->separation * best->normal;
+          it->point = nearPoint + 0.5 * bestPoint->separation * best->normal;
           it->normal = -best->normal;
         }
         it->seen = true;
         it->child = best->childB;
         it->separation = bestPoint->separation;
         it->contactNormal = best->normal;
-        it->bonePoint = bestPoint->position - 0.5 * bestPoint->separation * best->normal;
+        it->bonePoint = nearPoint - 0.5 * bestPoint->separation * best->normal;
       }
     }
   }
@@ -398,8 +421,7 @@ void Interaction::Impl::applyFrictionForces(World& w, double dt) {
     state.com = w.centerOfMass(bodyId);
     state.linearVelocity = w.linearVelocity(bodyId);
     state.angularVelocity = w.angularVelocity(bodyId);
-    state.externalForce = state.mass * w.gravity() + w.accumulatedForce(bodyId);
-    state.externalTorque = w.accumulatedTorque(bodyId);
+    externalForces(w, bodyId, state);
     const bool implicit = def.integration == SpringIntegration::Implicit;
     const Twist vNext = implicit ? implicitVelocity(state, springs, dt) : Twist::Zero();
     const double muS = muStatic(bodyId), muD = muDynamic(bodyId);
@@ -437,8 +459,34 @@ void Interaction::Impl::applyFrictionForces(World& w, double dt) {
       c.normal = body.rotate(c.samples[0].nLocal);
     }
     applied.emplace_back(bodyId, total);
+    nextMemory.push_back({bodyId, w.stepCount(), w.time(), state.linearVelocity,
+                          state.angularVelocity, w.accumulatedForce(bodyId),
+                          w.accumulatedTorque(bodyId)});
     first = last;
   }
+  std::swap(memory, nextMemory);
+  nextMemory.clear();
+}
+
+// The known forces on a body for this step, besides the hand springs. Gravity and what the host
+// added so far; with observedExternalForce, also what the World's own contacts did to the body
+// over the last step, measured as M dV/dt minus the forces that were accumulated then. Without
+// that, a body resting on a floor would be predicted to fall through it and the implicit spring
+// would push more softly than gamma * depth; with it the force is exact whenever the body is at
+// rest, on a floor or in the air.
+void Interaction::Impl::externalForces(const World& w, BodyId body, RigidBodyState& s) const {
+  s.externalForce = s.mass * w.gravity() + w.accumulatedForce(body);
+  s.externalTorque = w.accumulatedTorque(body);
+  if (!def.observedExternalForce) return;
+  auto it = std::lower_bound(memory.begin(), memory.end(), body,
+                             [](const BodyMemory& m, BodyId k) { return m.body < k; });
+  if (it == memory.end() || it->body != body || w.stepCount() != it->step + 1) return;
+  const double h = w.time() - it->time;
+  if (!(h > 0.0)) return;
+  s.externalForce =
+      s.mass * (s.linearVelocity - it->v) / h - it->force + w.accumulatedForce(body);
+  s.externalTorque = s.inertiaWorld * (s.angularVelocity - it->w) / h - it->torque +
+                     w.accumulatedTorque(body);
 }
 
 // Normal grip of one hand on one body (sum of the elastic normal spring forces), and whether
