@@ -483,10 +483,9 @@ void Interaction::Impl::externalForces(const World& w, BodyId body, RigidBodySta
   if (it == memory.end() || it->body != body || w.stepCount() != it->step + 1) return;
   const double h = w.time() - it->time;
   if (!(h > 0.0)) return;
-  s.externalForce =
-      s.mass * (s.linearVelocity - it->v) / h - it->force + w.accumulatedForce(body);
-  s.externalTorque = s.inertiaWorld * (s.angularVelocity - it->w) / h - it->torque +
-                     w.accumulatedTorque(body);
+  s.externalForce = s.mass * (s.linearVelocity - it->v) / h - it->force + w.accumulatedForce(body);
+  s.externalTorque =
+      s.inertiaWorld * (s.angularVelocity - it->w) / h - it->torque + w.accumulatedTorque(body);
 }
 
 // Normal grip of one hand on one body (sum of the elastic normal spring forces), and whether
