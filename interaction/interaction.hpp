@@ -103,8 +103,9 @@ struct InteractionStats {
   int samples = 0;  // patch samples that applied force
   int slippingSamples = 0;
   int touchedBodies = 0;
-  int attachedBodies = 0;  // kinematic baseline
-  int droppedFrames = 0;   // frames rejected since creation (non-finite)
+  int attachedBodies = 0;     // kinematic baseline
+  int droppedFrames = 0;      // frames rejected since creation (non-finite)
+  double springEnergy = 0.0;  // J, sum of k |p - C|^2 / 2 over pressing samples (diagnostics)
 };
 
 enum class FrameStatus : uint8_t { Accepted, NotTracked, RejectedNonFinite, Teleported };

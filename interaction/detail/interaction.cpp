@@ -105,6 +105,7 @@ struct Interaction::Impl {
   std::vector<std::pair<BodyId, BodyInteractionDef>> overrides;  // sorted by body
   std::vector<Attachment> attachments;
   std::vector<BodyMemory> memory, nextMemory;  // sorted by body
+  double springEnergy = 0.0;
   std::vector<HandContactEvent> beginEvents, endEvents;
   std::vector<std::pair<BodyId, Vec3>> applied;  // per touched body, sorted
   InteractionStats stats;
@@ -438,6 +439,7 @@ void Interaction::Impl::applyFrictionForces(World& w, double dt) {
         const Vec3 n = body.rotate(s.nLocal);
         const Vec3 stretch = sp.target - sp.anchor;
         depth -= stretch.dot(n);
+        if (stretch.dot(n) < 0.0) springEnergy += 0.5 * sp.stiffness * stretch.squaredNorm();
         const Vec3 f =
             implicit ? implicitSpringForce(state, sp, vNext, dt) : sp.stiffness * stretch;
         const ConeResult r = frictionCone(f, n, muS, muD, def.slipLaw);
@@ -573,6 +575,7 @@ void Interaction::Impl::updateStats() {
   }
   stats.touchedBodies = static_cast<int>(applied.size());
   stats.attachedBodies = static_cast<int>(attachments.size());
+  stats.springEnergy = springEnergy;
 }
 
 // ---- public API ---------------------------------------------------------------------------
@@ -678,6 +681,7 @@ void Interaction::update(World& world, double dt) {
   m.beginEvents.clear();
   m.endEvents.clear();
   m.applied.clear();
+  m.springEnergy = 0.0;
   m.takeFrames(dt);
   m.dropDeadContacts(world);
   m.findContacts(world);
