@@ -15,6 +15,7 @@ constexpr int kMaxSamples = 9;
 // A slipping point moved along the surface is kept only where the surface faces about the same
 // way (3.7: the point stays in the "blocked" area instead of jumping to a hidden face).
 const double kNormalAgreement = std::cos(35.0 * kPi / 180.0);
+constexpr double kRayBackoff = 0.001;  // m
 
 struct Sample {
   Vec3 cLocal = Vec3::Zero();   // contact point, body coordinates
@@ -106,6 +107,7 @@ struct Interaction::Impl {
   std::vector<Attachment> attachments;
   std::vector<BodyMemory> memory, nextMemory;  // sorted by body
   double springEnergy = 0.0;
+  int slippingSamples = 0;
   std::vector<HandContactEvent> beginEvents, endEvents;
   std::vector<std::pair<BodyId, Vec3>> applied;  // per touched body, sorted
   InteractionStats stats;
@@ -301,8 +303,10 @@ void Interaction::Impl::findContacts(const World& w) {
 bool Interaction::Impl::placePoint(const World& w, const Contact& c, Vec3& point,
                                    Vec3& normal) const {
   if (!useClosestPoint(w, c.body)) {
+    // Start just outside the surface: a longer back-off would tilt the ray and shift C
+    // tangentially (by lateral offset * back-off / distance to the centre).
     const Vec3 origin =
-        c.bonePoint - (std::max(0.0, -c.separation) + 2.0 * def.contactOffset) * c.contactNormal;
+        c.bonePoint - (std::max(0.0, -c.separation) + kRayBackoff) * c.contactNormal;
     const Vec3 centre = childCenter(w.shape(c.body), w.pose(c.body), c.child);
     const Vec3 toCentre = centre - origin;
     const double len = toCentre.norm();
@@ -448,6 +452,7 @@ void Interaction::Impl::applyFrictionForces(World& w, double dt) {
         c.force += r.force;
         if (r.slipping) {
           c.slipping = true;
+          ++slippingSamples;
           if (def.surfaceUpdates) {
             slideSample(w, body, c, s, slipShift(stretch, n, muD), def.contactOffset);
           }
@@ -576,6 +581,7 @@ void Interaction::Impl::updateStats() {
   stats.touchedBodies = static_cast<int>(applied.size());
   stats.attachedBodies = static_cast<int>(attachments.size());
   stats.springEnergy = springEnergy;
+  stats.slippingSamples = slippingSamples;
 }
 
 // ---- public API ---------------------------------------------------------------------------
@@ -682,6 +688,7 @@ void Interaction::update(World& world, double dt) {
   m.endEvents.clear();
   m.applied.clear();
   m.springEnergy = 0.0;
+  m.slippingSamples = 0;
   m.takeFrames(dt);
   m.dropDeadContacts(world);
   m.findContacts(world);

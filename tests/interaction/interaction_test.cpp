@@ -26,27 +26,31 @@ bool finiteBody(const World& w, BodyId b) {
 
 // ---- the two-finger hold threshold --------------------------------------------------------
 
-struct PinchRun {
-  double drop = 0.0;   // how far the cube fell (m)
-  double speed = 0.0;  // its final speed
+struct LiftRun {
+  double lag = 0.0;  // how far the cube stayed behind the lifting fingers (m)
+  double speed = 0.0;
 };
 
-// A cube of mass m pinched by two fingertips at depth `depth` for `seconds`, fingers still.
-PinchRun runPinch(const InteractionDef& def, double mass, double halfWidth, double depth,
-                  double seconds) {
+// A cube of mass m resting on a floor is pinched by two fingertips at depth `depth`, lifted
+// 5 cm at 5 cm/s and held for a second. The load moves from the floor to the fingers gradually,
+// as when a real hand picks something up.
+LiftRun liftCube(const InteractionDef& def, double mass, double halfWidth, double depth) {
   World w;
   Interaction ix(def);
-  const Vec3 c(0.0, 0.5, 0.0);
+  addFloor(w);
+  const Vec3 c(0.0, halfWidth, 0.0);
   const BodyId cube = addBox(w, Vec3::Constant(halfWidth), mass, c);
   HandDef hd;
   const HandId h = ix.addHand(hd);
-  const HandPose pose = pinchCube(hd, c, halfWidth, depth);
-  for (int i = 0; i < static_cast<int>(seconds / kDt); ++i) {
-    ix.setHandPose(h, pose);
+  const double lift = 0.05;
+  const int squeeze = 15, rise = 60, hold = 60;
+  for (int i = 0; i < squeeze + rise + hold; ++i) {
+    const double up = lift * std::clamp((i - squeeze) / double(rise), 0.0, 1.0);
+    ix.setHandPose(h, pinchCube(hd, c + Vec3(0.0, up, 0.0), halfWidth, depth));
     ix.step(w, kDt);
   }
   EXPECT_TRUE(finiteBody(w, cube));
-  return {c.y() - w.centerOfMass(cube).y(), w.linearVelocity(cube).norm()};
+  return {c.y() + lift - w.centerOfMass(cube).y(), w.linearVelocity(cube).norm()};
 }
 
 double holdDepth(double mass, double mu, double gamma) {
@@ -57,24 +61,23 @@ TEST(TwoFingerHold, HoldsAboveTwoMuGammaDepthAndSlipsBelow) {
   const InteractionDef def;
   const double mass = 0.1, half = 0.03;
   const double threshold = holdDepth(mass, def.skin.staticFriction, def.gamma);  // 2.67 mm
-  const PinchRun above = runPinch(def, mass, half, 1.2 * threshold, 2.0);
-  EXPECT_LT(above.drop, 0.005);
+  const LiftRun above = liftCube(def, mass, half, 1.2 * threshold);
+  EXPECT_LT(above.lag, 0.01);  // the tangential stretch m g / (2 gamma) = 1.2 mm plus some creep
   EXPECT_LT(above.speed, 0.01);
-  const PinchRun below = runPinch(def, mass, half, 0.8 * threshold, 0.5);
-  EXPECT_GT(below.drop, 0.03);
+  const LiftRun below = liftCube(def, mass, half, 0.8 * threshold);
+  EXPECT_GT(below.lag, 0.04);  // left on the floor
 }
 
 TEST(TwoFingerHold, ThesisLiteralSlipHasNoThreshold) {
   // Why the kinetic law is the default: the thesis's mu_d * f_t keeps a spring while slipping,
-  // so without surface updates the cube hangs on even 20 % below 2 mu gamma depth = m g.
+  // so without surface updates the cube is lifted even 20 % below 2 mu gamma depth = m g.
   InteractionDef def;
   def.slipLaw = SlipLaw::ThesisLiteral;
   def.surfaceUpdates = false;
   const double mass = 0.1, half = 0.03;
   const double threshold = holdDepth(mass, def.skin.staticFriction, def.gamma);
-  const PinchRun below = runPinch(def, mass, half, 0.8 * threshold, 2.0);
-  EXPECT_LT(below.drop, 0.03);
-  EXPECT_LT(below.speed, 0.05);
+  const LiftRun below = liftCube(def, mass, half, 0.8 * threshold);
+  EXPECT_LT(below.lag, 0.03);
 }
 
 TEST(TwoFingerHold, LooseningLetsTheCubeSlideAndTighteningHoldsItAgain) {
@@ -93,12 +96,14 @@ TEST(TwoFingerHold, LooseningLetsTheCubeSlideAndTighteningHoldsItAgain) {
     }
     return w.centerOfMass(cube).y();
   };
-  const double held = run(1.5 * threshold, 0.5);
-  EXPECT_GT(held, c.y() - 0.005);
-  const double loose = run(0.5 * threshold, 0.15);
+  // Kinetic capacity 2 mu_d gamma depth = 0.8 * depth / threshold * m g: at 2.5x the threshold
+  // it exceeds the weight (the cube stops), at 0.5x it does not (the cube slides).
+  const double held = run(2.5 * threshold, 0.5);
+  EXPECT_GT(held, c.y() - 0.01);
+  const double loose = run(0.5 * threshold, 0.08);
   EXPECT_LT(loose, held - 0.005);  // slid down between the fingers
-  const double tight = run(1.5 * threshold, 0.3);
-  const double later = run(1.5 * threshold, 0.5);
+  const double tight = run(2.5 * threshold, 0.3);
+  const double later = run(2.5 * threshold, 0.5);
   EXPECT_LT(std::abs(later - tight), 0.002);  // held again
   EXPECT_LT(w.linearVelocity(cube).norm(), 0.01);
   EXPECT_GT(later, c.y() - half);
@@ -435,11 +440,15 @@ TEST(KinematicBaseline, AttachesFollowsTheHandExactlyAndReleases) {
     ix.step(w, kDt);
   }
   ASSERT_TRUE(ix.isAttached(cube));
+  double worst = 0.0;
   for (int i = 1; i <= 30; ++i) {
-    ix.setHandPose(h, moved(grip, Vec3(0.0, 0.1, 0.2) * (i / 30.0)));
-    ix.step(w, kDt);
+    const Vec3 shift = Vec3(0.0, 0.1, 0.2) * (i / 30.0);
+    ix.setHandPose(h, moved(grip, shift));
+    ix.update(w, kDt);
+    worst = std::max(worst, (w.centerOfMass(cube) - (c + shift)).norm());
+    w.step(kDt);
   }
-  EXPECT_LT((w.centerOfMass(cube) - (c + Vec3(0.0, 0.1, 0.2))).norm(), 0.001);
+  EXPECT_LT(worst, 1e-9);  // the hand's pose, exactly
   ix.setHandPose(h, moved(pinchCube(hd, c, 0.03, -0.004), Vec3(0.0, 0.1, 0.2)));
   ix.step(w, kDt);
   EXPECT_FALSE(ix.isAttached(cube));
@@ -452,7 +461,9 @@ TEST(KinematicBaseline, AttachesFollowsTheHandExactlyAndReleases) {
 
 TEST(EngineContract, HandsNeverAddSolverConstraints) {
   auto run = [](bool withHand) {
-    World w;
+    WorldDef wd;
+    wd.enableSleep = false;  // a pressing hand keeps the box awake; compare like with like
+    World w(wd);
     Interaction ix;
     addFloor(w);
     const BodyId box = addBox(w, Vec3::Constant(0.05), 1.0, Vec3(0, 0.05, 0));
@@ -521,8 +532,9 @@ TEST(EngineContract, ForcesFromAllHandsOnABodyAddUp) {
   for (const HandContactInfo& c : ix.contacts()) sum += c.force;
   EXPECT_EQ(ix.stats().pressingContacts, 2);
   EXPECT_LT((w.accumulatedForce(cube) - sum).norm(), 1e-12);
-  EXPECT_LT(sum.y(), -0.5);  // pushed down by A
-  EXPECT_LT(sum.x(), -0.5);  // and toward -x by B
+  EXPECT_LT(sum.y(), -0.1);             // pushed down by A
+  EXPECT_LT(sum.x(), -0.1);             // and toward -x by B
+  EXPECT_NEAR(sum.x(), sum.y(), 1e-9);  // the same depth and gamma: the same push
 }
 
 // ---- events and the visual hand
