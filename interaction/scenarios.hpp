@@ -45,6 +45,6 @@ struct HoldScene {
   std::vector<HandId> hands;
   std::vector<HandPose> poses;
 };
-HoldScene buildHoldScene(World& w, Interaction& ix, int phalanges, double depth = 0.003);
+HoldScene buildHoldScene(World& w, Interaction& ix, int phalanges, double depth = 0.004);
 
 }  // namespace grip::scenarios

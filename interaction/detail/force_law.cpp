@@ -82,29 +82,32 @@ Vec3 pointVelocity(const Twist& V, const Vec3& r) {
 }  // namespace
 
 Twist implicitVelocity(const RigidBodyState& body, std::span<const SpringPoint> springs, double h) {
-  Mat6 A = Mat6::Zero();
-  A.topLeftCorner<3, 3>() = body.mass * Mat3::Identity();
-  A.bottomRightCorner<3, 3>() = body.inertiaWorld;
-  Twist MV;
-  MV.head<3>() = body.mass * body.linearVelocity;
-  MV.tail<3>() = body.inertiaWorld * body.angularVelocity;
-  Twist rhs = MV;
-  rhs.head<3>() += h * body.externalForce;
-  rhs.tail<3>() += h * body.externalTorque;
-  const double h2 = h * h;
+  // K = sum k J^T J with J = [I, -[r]x] is [[sum k I, -[sum k r]x], [[sum k r]x, sum k (|r|^2 I
+  // - r r^T)]]: three moment sums instead of a 6x6 per spring.
+  double k0 = 0.0;
+  Vec3 k1 = Vec3::Zero();
+  Mat3 k2 = Mat3::Zero();
+  Vec3 force = Vec3::Zero(), torque = Vec3::Zero();
   for (const SpringPoint& s : springs) {
     const Vec3 r = s.anchor - body.com;
-    const Mat3 R = skew(r);
     const double k = s.stiffness;
-    // k J^T J with J = [I, -[r]x]:  [[I, -[r]x], [[r]x, -[r]x [r]x]].
-    A.topLeftCorner<3, 3>() += h2 * k * Mat3::Identity();
-    A.topRightCorner<3, 3>() -= h2 * k * R;
-    A.bottomLeftCorner<3, 3>() += h2 * k * R;
-    A.bottomRightCorner<3, 3>() -= h2 * k * (R * R);
+    k0 += k;
+    k1 += k * r;
+    k2 += k * (r.squaredNorm() * Mat3::Identity() - r * r.transpose());
     const Vec3 f = k * (s.target - s.anchor);
-    rhs.head<3>() += h * f;
-    rhs.tail<3>() += h * r.cross(f);
+    force += f;
+    torque += r.cross(f);
   }
+  const double h2 = h * h;
+  const Mat3 R = skew(k1);
+  Mat6 A;
+  A.topLeftCorner<3, 3>() = (body.mass + h2 * k0) * Mat3::Identity();
+  A.topRightCorner<3, 3>() = -h2 * R;
+  A.bottomLeftCorner<3, 3>() = h2 * R;
+  A.bottomRightCorner<3, 3>() = body.inertiaWorld + h2 * k2;
+  Twist rhs;
+  rhs.head<3>() = body.mass * body.linearVelocity + h * (body.externalForce + force);
+  rhs.tail<3>() = body.inertiaWorld * body.angularVelocity + h * (body.externalTorque + torque);
   return A.ldlt().solve(rhs);
 }
 

@@ -80,7 +80,10 @@ std::vector<HandPose> cubeHeldByPhalanges(const std::vector<HandDef>& defs, cons
   for (int i = 0; i < phalanges; ++i) {
     const int hand = i / 16, bone = i % 16;
     const int face = (i % 2) + 2 * ((i / 16) % 2);  // pairs on +-x, the second hand on +-z
-    const int slot = (i % 16) / 2;
+    // Slot order: each next pair sits opposite the previous one on the face, so any number of
+    // pairs is roughly centred.
+    constexpr int kSlotOrder[8] = {5, 2, 1, 6, 4, 3, 0, 7};
+    const int slot = kSlotOrder[(i % 16) / 2];
     const Vec3 n = normals[face];
     const Vec3 side = std::abs(n.x()) > 0.5 ? Vec3::UnitZ() : Vec3::UnitX();
     const Vec3 facePoint = centre + halfWidth * n + halfWidth * rows[slot / 4] * Vec3::UnitY() +
