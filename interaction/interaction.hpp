@@ -54,7 +54,8 @@ struct InteractionDef {
   double releaseMargin = 0.005;    // m: ...and ends beyond contactOffset + releaseMargin
   int patchSamples = 9;            // 1, 5 or 9 points per contact patch (3.5.4)
   double patchRadius = 0.004;      // m, finger patches
-  double widePatchRadius = 0.008;  // m, thumb and palm patches
+  double widePatchRadius = 0.008;  // m, thumb patches
+  double palmPatchRadius = 0.015;  // m, the palm: wide enough to carry an object lying on it
   SkinFriction skin = skinFriction(SkinContactMaterial::Average);
   bool surfaceUpdates = true;  // slide slipping contact points along the surface (3.5.3)
   // A bone that first meets a body already deeper than this stays passive until it has come

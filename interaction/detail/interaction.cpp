@@ -333,7 +333,9 @@ void Interaction::Impl::anchor(const World& w, Contact& c, const Vec3& point, co
   const Transform& bone = hands[c.hand].tracked.bones[c.bone];
   Vec3 t1, t2;
   tangentBasis(normal, t1, t2);
-  const double radius = hasWidePatch(c.bone) ? def.widePatchRadius : def.patchRadius;
+  const double radius = c.bone == kPalmBone    ? def.palmPatchRadius
+                        : hasWidePatch(c.bone) ? def.widePatchRadius
+                                               : def.patchRadius;
   const int n = def.patchSamples;
   c.sampleCount = n;
   for (int k = 0; k < n; ++k) {
@@ -595,6 +597,7 @@ Interaction::Interaction(const InteractionDef& def) : impl_(std::make_unique<Imp
   }
   requirePositive(def.patchRadius, "InteractionDef.patchRadius");
   requirePositive(def.widePatchRadius, "InteractionDef.widePatchRadius");
+  requirePositive(def.palmPatchRadius, "InteractionDef.palmPatchRadius");
   requirePositive(def.skin.staticFriction, "InteractionDef.skin.staticFriction");
   requireNonNegative(def.skin.dynamicFriction, "InteractionDef.skin.dynamicFriction");
   if (def.skin.dynamicFriction > def.skin.staticFriction) {
