@@ -50,6 +50,53 @@ TEST(Manipulation, AFlatHandLiftsAnObjectFromBelow) {
   EXPECT_LT(w.linearVelocity(box).norm(), 0.01);
 }
 
+// A bar (12 x 4 x 4 cm, 0.1 kg) across the palm, wrapped by a power grasp: palm on top,
+// proximal phalanges in front, distal phalanges under it. The hand carries it 30 cm and turns
+// it 90 degrees about the vertical in 1.5 s.
+// DISABLED: fails today. With the forward-kinematics power pose the bones meet the bar on edges
+// and oblique faces at once; the patches slip, re-anchor on other faces and the bar is thrown
+// out within 0.1 s. Needs work on contact placement for edge contacts (see docs/interaction.md,
+// "Open problems").
+TEST(Manipulation, DISABLED_APowerGraspCarriesAndTurnsAnObject) {
+  World w;
+  Interaction ix;
+  HandDef hd;
+  const HandId h = ix.addHand(hd);
+  Transform palm;
+  palm.p = Vec3(0.0, 0.5, 0.0);
+  const BodyId bar = addBox(w, Vec3(0.06, 0.02, 0.02), 0.1,
+                            palm.apply(Vec3(0.0, -hd.palmHalfExtents.y() - 0.02, -0.035)));
+  const HandShape power = handShape(GraspPose::Power);
+  auto poseAt = [&](double s) {  // s in [0, 1] along the path
+    const double e = s * s * (3.0 - 2.0 * s);
+    Transform p = palm;
+    p.p += Vec3(0.3 * e, 0.0, 0.0);
+    p.q = Quat(Eigen::AngleAxisd(0.5 * kPi * e, Vec3::UnitY())) * palm.q;
+    ix.setHandPose(h, poseHand(hd, p, power));
+    return p;
+  };
+  for (int i = 0; i < 30; ++i) {  // settle in the grasp
+    poseAt(0.0);
+    ix.step(w, kDt);
+  }
+  const Transform relStart = palm.inverse() * w.pose(bar);
+  EXPECT_GE(ix.stats().pressingContacts, 5);
+  Transform end;
+  for (int i = 1; i <= 90; ++i) {
+    end = poseAt(i / 90.0);
+    ix.step(w, kDt);
+  }
+  for (int i = 0; i < 30; ++i) {
+    end = poseAt(1.0);
+    ix.step(w, kDt);
+  }
+  const Transform relEnd = end.inverse() * w.pose(bar);
+  EXPECT_LT((relEnd.p - relStart.p).norm(), 0.005);
+  EXPECT_LT(relEnd.q.angularDistance(relStart.q), 0.05);
+  const Vec3 travelled = w.centerOfMass(bar) - palm.apply(relStart.p);
+  EXPECT_GT(travelled.norm(), 0.25);
+}
+
 // A tower of 6 layers of 3 blocks (7.5 x 1.5 x 2.5 cm, 14 g, wood on wood mu 0.4), layers
 // crossed. A fingertip pushes the middle block of the third layer 4.5 cm out along its length.
 TEST(Manipulation, OneJengaBlockIsPushedOutWhileTheTowerStands) {
