@@ -367,8 +367,13 @@ void Interaction::Impl::placeContactPoints(const World& w) {
     if (c.fresh) beginEvents.push_back(eventOf(c));
     c.fresh = false;
     if (!placed) continue;
-    const bool pressing = (c.bonePoint - point).dot(normal) < 0.0;
-    if (pressing && !c.passive) anchor(w, c, point, normal);
+    const double depth = -(c.bonePoint - point).dot(normal);
+    if (depth > 0.0 && !c.passive) {
+      // Anchor straight above the bone's point on the face the ray found: the ray's tilt toward
+      // the sub-shape centre is an artifact of where it started, and the tangential stretch it
+      // leaves would make the patch slip (or, in many-contact grasps, kick) at the first step.
+      anchor(w, c, c.bonePoint + depth * normal, normal);
+    }
   }
 }
 

@@ -36,8 +36,8 @@ TEST(Manipulation, AFlatHandLiftsAnObjectFromBelow) {
   }
   const Vec3 rest = w.centerOfMass(box) - palm.p;
   EXPECT_LT(rest.y() - (top - palm.p.y() + 0.02), 0.0);  // it sank into the palm: it is carried
-  for (int i = 1; i <= 60; ++i) {  // up 20 cm in a second, accelerating smoothly
-    const double s = i / 60.0;
+  for (int i = 1; i <= 90; ++i) {                        // up 20 cm in 1.5 s, accelerating smoothly
+    const double s = i / 90.0;
     pose(0.2 * s * s * (3.0 - 2.0 * s));
     ix.step(w, kDt);
   }
