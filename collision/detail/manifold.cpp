@@ -1,0 +1,220 @@
+#include "collision/detail/manifold.hpp"
+
+#include <algorithm>
+#include <limits>
+
+namespace grip::detail {
+namespace {
+
+// Box vertex i has coordinate signs from its bits (bit k set: +h_k).
+Vec3 boxVertex(const Vec3& h, int i) {
+  return Vec3((i & 1) ? h.x() : -h.x(), (i & 2) ? h.y() : -h.y(), (i & 4) ? h.z() : -h.z());
+}
+
+// Faces of a box as vertex loops, CCW seen from outside. Face 2k is +axis k, 2k+1 is -axis k.
+void boxFace(const Shape& s, const Transform& t, int axis, bool positive, Feature& out) {
+  const int u = (axis + 1) % 3, w = (axis + 2) % 3;
+  // Corners in (u, w) sign order; CCW about +axis because e_u x e_w = e_axis.
+  static constexpr int su[4] = {-1, 1, 1, -1}, sw[4] = {-1, -1, 1, 1};
+  out.count = 0;
+  for (int c = 0; c < 4; ++c) {
+    const int k = positive ? c : 3 - c;
+    int bits = positive ? (1 << axis) : 0;
+    if (su[k] > 0) bits |= 1 << u;
+    if (sw[k] > 0) bits |= 1 << w;
+    out.add(t.apply(boxVertex(s.halfExtents(), bits)), static_cast<uint32_t>(bits));
+  }
+  out.normal = t.rotate(Vec3::Unit(axis) * (positive ? 1.0 : -1.0));
+  out.face = static_cast<uint32_t>(2 * axis + (positive ? 0 : 1));
+}
+
+}  // namespace
+
+void supportingFeature(const Shape& s, const Transform& t, const Vec3& dir, Feature& out) {
+  const Vec3 d = t.rotateInverse(dir);
+  out.count = 0;
+  out.face = 0;
+  switch (s.type()) {
+    case ShapeType::Box: {
+      int axis = 0;
+      for (int k = 1; k < 3; ++k)
+        if (std::abs(d[k]) > std::abs(d[axis])) axis = k;
+      boxFace(s, t, axis, d[axis] >= 0.0, out);
+      return;
+    }
+    case ShapeType::Capsule: {
+      // The whole segment when it lies (nearly) flat to the direction, else one end.
+      const double c = d.y() / std::max(d.norm(), 1e-300);
+      const Vec3 top = t.apply(Vec3(0.0, s.halfHeight(), 0.0));
+      const Vec3 bottom = t.apply(Vec3(0.0, -s.halfHeight(), 0.0));
+      if (std::abs(c) < 0.05) {
+        out.add(bottom, 0);
+        out.add(top, 1);
+      } else if (c > 0.0) {
+        out.add(top, 1);
+      } else {
+        out.add(bottom, 0);
+      }
+      return;
+    }
+    case ShapeType::ConvexHull: {
+      const ConvexHullData& h = s.hull();
+      int best = 0;
+      double bestD = -std::numeric_limits<double>::infinity();
+      for (int f = 0; f < static_cast<int>(h.faces.size()); ++f) {
+        const double x = h.faces[f].normal.dot(d);
+        if (x > bestD) bestD = x, best = f;
+      }
+      const auto& face = h.faces[best];
+      if (static_cast<int>(face.vertices.size()) > Feature::kMax) {
+        // Too many corners for the clipper: fall back to the single support vertex.
+        int bv = 0;
+        for (int i = 1; i < static_cast<int>(h.vertices.size()); ++i)
+          if (h.vertices[i].dot(d) > h.vertices[bv].dot(d)) bv = i;
+        out.add(t.apply(h.vertices[bv]), static_cast<uint32_t>(bv));
+        return;
+      }
+      for (int v : face.vertices) out.add(t.apply(h.vertices[v]), static_cast<uint32_t>(v));
+      out.normal = t.rotate(face.normal);
+      out.face = static_cast<uint32_t>(best);
+      return;
+    }
+    default:
+      out.add(t.p, 0);
+      return;  // sphere: its centre
+  }
+}
+
+namespace {
+
+struct ClipVertex {
+  Vec3 p;
+  uint32_t id;  // incident vertex id << 8 | (clipping side + 1, or 0)
+};
+
+constexpr int kMaxClip = 2 * Feature::kMax + 4;
+
+struct ClipList {
+  int n = 0;
+  std::array<ClipVertex, kMaxClip> v;
+  void add(const Vec3& p, uint32_t id) {
+    if (n < kMaxClip) v[n++] = {p, id};
+  }
+};
+
+uint32_t crossingId(uint32_t from, int side) {
+  return (from & ~0xFFu) | static_cast<uint32_t>((side + 1) & 0xFF);
+}
+
+// Sutherland-Hodgman against one plane (x - o) . sideN <= 0. A segment (2 points) is clipped
+// as a segment, not as a closed loop.
+void clipAgainst(const ClipList& in, const Vec3& o, const Vec3& sideN, int side, ClipList& out) {
+  out.n = 0;
+  if (in.n == 1) {
+    if ((in.v[0].p - o).dot(sideN) <= 0.0) out.add(in.v[0].p, in.v[0].id);
+    return;
+  }
+  const int edges = in.n == 2 ? 1 : in.n;
+  if (in.n == 2) {
+    const double d0 = (in.v[0].p - o).dot(sideN), d1 = (in.v[1].p - o).dot(sideN);
+    if (d0 > 0.0 && d1 > 0.0) return;
+    const Vec3 x = in.v[0].p + (in.v[1].p - in.v[0].p) * (d0 / (d0 - d1));
+    out.add(d0 <= 0.0 ? in.v[0].p : x, d0 <= 0.0 ? in.v[0].id : crossingId(in.v[0].id, side));
+    out.add(d1 <= 0.0 ? in.v[1].p : x, d1 <= 0.0 ? in.v[1].id : crossingId(in.v[0].id, side));
+    return;
+  }
+  for (int i = 0; i < edges; ++i) {
+    const ClipVertex& a = in.v[i];
+    const ClipVertex& b = in.v[(i + 1) % in.n];
+    const double da = (a.p - o).dot(sideN), db = (b.p - o).dot(sideN);
+    if (da <= 0.0) out.add(a.p, a.id);
+    if ((da < 0.0 && db > 0.0) || (da > 0.0 && db < 0.0))
+      out.add(a.p + (b.p - a.p) * (da / (da - db)), crossingId(a.id, side));
+  }
+}
+
+// Signed area of triangle (a, b, c) projected on the plane normal to n.
+double area(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& n) {
+  return (b - a).cross(c - a).dot(n);
+}
+
+}  // namespace
+
+int reducePoints(const Vec3* p, const double* sep, int count, const Vec3& n,
+                 std::array<int, 4>& keep) {
+  if (count <= 4) {
+    for (int i = 0; i < count; ++i) keep[i] = i;
+    return count;
+  }
+  // 1: deepest. 2: farthest from it. 3: largest triangle. 4: largest growth of the quad.
+  int i0 = 0;
+  for (int i = 1; i < count; ++i)
+    if (sep[i] < sep[i0]) i0 = i;
+  int i1 = -1;
+  double best = -1.0;
+  for (int i = 0; i < count; ++i) {
+    const double d = (p[i] - p[i0]).squaredNorm();
+    if (i != i0 && d > best) best = d, i1 = i;
+  }
+  int i2 = -1;
+  best = -1.0;
+  for (int i = 0; i < count; ++i) {
+    const double a = std::abs(area(p[i0], p[i1], p[i], n));
+    if (i != i0 && i != i1 && a > best) best = a, i2 = i;
+  }
+  if (area(p[i0], p[i1], p[i2], n) < 0.0) std::swap(i1, i2);  // CCW about n
+  int i3 = -1;
+  best = 0.0;
+  for (int i = 0; i < count; ++i) {
+    if (i == i0 || i == i1 || i == i2) continue;
+    // Area added outside the triangle's edges (negative areas are outside).
+    const double a = -std::min(
+        {area(p[i0], p[i1], p[i], n), area(p[i1], p[i2], p[i], n), area(p[i2], p[i0], p[i], n)});
+    if (a > best) best = a, i3 = i;
+  }
+  int k = 0;
+  keep[k++] = i0, keep[k++] = i1, keep[k++] = i2;
+  if (i3 >= 0) keep[k++] = i3;
+  std::sort(keep.begin(), keep.begin() + k);
+  return k;
+}
+
+int clipFeatures(const Feature& ref, const Feature& inc, bool refIsA, double rRef, double rInc,
+                 double margin, Manifold& m) {
+  ClipList a, b;
+  for (int i = 0; i < inc.count; ++i) a.add(inc.p[i], inc.id[i] << 8);
+  ClipList* in = &a;
+  ClipList* out = &b;
+  for (int j = 0; j < ref.count && in->n > 0; ++j) {
+    const Vec3& r0 = ref.p[j];
+    const Vec3& r1 = ref.p[(j + 1) % ref.count];
+    clipAgainst(*in, r0, (r1 - r0).cross(ref.normal), j, *out);
+    std::swap(in, out);
+  }
+  // Depth of each clipped point below the reference face, then keep those within the margin.
+  std::array<Vec3, kMaxClip> pts;
+  std::array<double, kMaxClip> seps;
+  std::array<uint32_t, kMaxClip> ids;
+  int count = 0;
+  const uint32_t flip = refIsA ? 0u : 0x80000000u;
+  for (int i = 0; i < in->n; ++i) {
+    const double s = (in->v[i].p - ref.p[0]).dot(ref.normal);
+    const double sep = s - rRef - rInc;
+    if (sep >= margin) continue;
+    pts[count] = in->v[i].p + ref.normal * (0.5 * (rRef - s - rInc));
+    seps[count] = sep;
+    ids[count] = flip | ((ref.face & 0x7FFu) << 20) | (in->v[i].id & 0xFFFFFu);
+    ++count;
+  }
+  std::array<int, 4> keep;
+  const int k = reducePoints(pts.data(), seps.data(), count, ref.normal, keep);
+  for (int i = 0; i < k; ++i) {
+    m.points[i].position = pts[keep[i]];
+    m.points[i].separation = seps[keep[i]];
+    m.points[i].featureId = ids[keep[i]];
+  }
+  m.pointCount = k;
+  return k;
+}
+
+}  // namespace grip::detail

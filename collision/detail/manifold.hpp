@@ -1,0 +1,44 @@
+// Private: building multi-point manifolds from two supporting features (faces, edges,
+// points): clip the incident feature against the reference face's side planes, keep what is
+// within the margin and reduce to at most four points.
+#pragma once
+
+#include <array>
+#include <cstdint>
+
+#include "collision/narrowphase.hpp"
+
+namespace grip::detail {
+
+// A supporting feature in world space: a face polygon (count >= 3, CCW seen from outside),
+// a segment (2) or a point (1). Ids are the shape's vertex indices.
+struct Feature {
+  static constexpr int kMax = 32;
+  int count = 0;
+  std::array<Vec3, kMax> p;
+  std::array<uint32_t, kMax> id{};
+  Vec3 normal = Vec3::UnitY();  // outward face normal when count >= 3
+  uint32_t face = 0;            // face index (boxes 0-5, hull faces) for feature ids
+
+  void add(const Vec3& x, uint32_t i) {
+    p[count] = x;
+    id[count] = i;
+    ++count;
+  }
+};
+
+// The feature of a (core) shape that supports it along world direction `dir`.
+void supportingFeature(const Shape& s, const Transform& t, const Vec3& dir, Feature& out);
+
+// Clips `inc` against `ref` (a face) and writes the manifold points into `m` (normal already
+// set). `refIsA` tells which shape the reference face belongs to. rRef/rInc are the rounding
+// radii. Returns the number of points (0 when nothing is within the margin).
+int clipFeatures(const Feature& ref, const Feature& inc, bool refIsA, double rRef, double rInc,
+                 double margin, Manifold& m);
+
+// Keeps at most 4 of `count` candidate points: the deepest, then the ones spanning the
+// largest area in the plane normal to `n`. Writes the chosen indices (ascending) to `keep`.
+int reducePoints(const Vec3* p, const double* sep, int count, const Vec3& n,
+                 std::array<int, 4>& keep);
+
+}  // namespace grip::detail

@@ -1,0 +1,456 @@
+// Narrowphase: analytic fast paths for the common pairs, GJK + libccd + feature clipping for
+// the rest, and compound iteration. Conventions: the normal points from A to B, separation
+// is negative when overlapping, positions lie midway between the two surfaces.
+#include "collision/narrowphase.hpp"
+
+#include <algorithm>
+#include <limits>
+
+#include "collision/detail/convex.hpp"
+#include "collision/detail/manifold.hpp"
+
+namespace grip {
+namespace {
+
+using detail::Core;
+using detail::Feature;
+
+// Face axes win ties with edge axes (and A's faces with B's) unless clearly worse: this keeps
+// resting boxes on stable face manifolds instead of flickering to edge contacts.
+bool clearlyBetter(double candidate, double best) {
+  return candidate > best + 0.05 * std::abs(best) + 5e-4;
+}
+
+void flip(Manifold& m) {
+  m.normal = -m.normal;
+}
+
+// A single point between two spheres (cores cA, cB grown by rA, rB). `fallback` is the
+// normal used when the centres coincide.
+bool pointContact(const Vec3& cA, double rA, const Vec3& cB, double rB, double margin,
+                  const Vec3& fallback, Manifold& m) {
+  const Vec3 d = cB - cA;
+  const double dist = d.norm();
+  const double sep = dist - rA - rB;
+  if (sep >= margin) return false;
+  const Vec3 n = dist > 1e-12 ? Vec3(d / dist) : fallback;
+  m.normal = n;
+  m.points[0].position = 0.5 * ((cA + rA * n) + (cB - rB * n));
+  m.points[0].separation = sep;
+  m.points[0].featureId = 0;
+  m.pointCount = 1;
+  return true;
+}
+
+Vec3 closestOnSegment(const Vec3& a, const Vec3& b, const Vec3& x) {
+  const Vec3 ab = b - a;
+  const double t = std::clamp((x - a).dot(ab) / ab.squaredNorm(), 0.0, 1.0);
+  return a + t * ab;
+}
+
+// Closest points of segments p1q1 and p2q2 (Ericson 5.1.9; both have non-zero length).
+void closestSegments(const Vec3& p1, const Vec3& q1, const Vec3& p2, const Vec3& q2, Vec3& c1,
+                     Vec3& c2) {
+  const Vec3 d1 = q1 - p1, d2 = q2 - p2, r = p1 - p2;
+  const double a = d1.squaredNorm(), e = d2.squaredNorm(), f = d2.dot(r);
+  const double c = d1.dot(r), b = d1.dot(d2);
+  const double denom = a * e - b * b;
+  double s = denom > 1e-14 * a * e ? std::clamp((b * f - c * e) / denom, 0.0, 1.0) : 0.0;
+  double t = (b * s + f) / e;
+  if (t < 0.0) {
+    t = 0.0;
+    s = std::clamp(-c / a, 0.0, 1.0);
+  } else if (t > 1.0) {
+    t = 1.0;
+    s = std::clamp((b - c) / a, 0.0, 1.0);
+  }
+  c1 = p1 + d1 * s;
+  c2 = p2 + d2 * t;
+}
+
+Vec3 anyPerpendicular(const Vec3& v) {
+  Vec3 t1, t2;
+  tangentBasis(v.normalized(), t1, t2);
+  return t1;
+}
+
+void capsuleEnds(const Shape& s, const Transform& t, Vec3& a, Vec3& b) {
+  const Vec3 axis = t.rotate(Vec3(0.0, s.halfHeight(), 0.0));
+  a = t.p - axis;
+  b = t.p + axis;
+}
+
+bool sphereSphere(const Shape& a, const Transform& ta, const Shape& b, const Transform& tb,
+                  double margin, Manifold& m) {
+  return pointContact(ta.p, a.radius(), tb.p, b.radius(), margin, Vec3::UnitY(), m);
+}
+
+bool sphereCapsule(const Shape& a, const Transform& ta, const Shape& b, const Transform& tb,
+                   double margin, Manifold& m) {
+  Vec3 b0, b1;
+  capsuleEnds(b, tb, b0, b1);
+  const Vec3 q = closestOnSegment(b0, b1, ta.p);
+  return pointContact(ta.p, a.radius(), q, b.radius(), margin, -tb.rotate(Vec3::UnitX()), m);
+}
+
+bool capsuleCapsule(const Shape& a, const Transform& ta, const Shape& b, const Transform& tb,
+                    double margin, Manifold& m) {
+  Vec3 a0, a1, b0, b1;
+  capsuleEnds(a, ta, a0, a1);
+  capsuleEnds(b, tb, b0, b1);
+  const Vec3 da = a1 - a0, db = b1 - b0;
+  const double rA = a.radius(), rB = b.radius();
+  // (Nearly) parallel: B's segment clipped to A's extent gives two points, so a capsule
+  // lying on another does not roll about a single point.
+  if (da.cross(db).squaredNorm() < 1e-6 * da.squaredNorm() * db.squaredNorm()) {
+    const Vec3 u = da.normalized();
+    const double lo = 0.0, hi = da.norm();
+    double t0 = (b0 - a0).dot(u), t1 = (b1 - a0).dot(u);
+    const Vec3 bDir = db / db.dot(u);  // step along B per unit of A's axis
+    const double s0 = std::max(std::min(t0, t1), lo), s1 = std::min(std::max(t0, t1), hi);
+    if (s1 - s0 > 1e-9 * hi) {
+      const Vec3 q0 = b0 + bDir * (s0 - t0), q1 = b0 + bDir * (s1 - t0);
+      const Vec3 p0 = a0 + u * s0, p1 = a0 + u * s1;
+      Vec3 n = 0.5 * ((q0 - p0) + (q1 - p1));
+      n -= u * n.dot(u);
+      const double len = n.norm();
+      n = len > 1e-12 ? Vec3(n / len) : anyPerpendicular(u);
+      const std::array<Vec3, 2> ps = {p0, p1}, qs = {q0, q1};
+      int k = 0;
+      for (int i = 0; i < 2; ++i) {
+        const double sep = (qs[i] - ps[i]).dot(n) - rA - rB;
+        if (sep >= margin) continue;
+        m.points[k].position = 0.5 * ((ps[i] + rA * n) + (qs[i] - rB * n));
+        m.points[k].separation = sep;
+        m.points[k].featureId = static_cast<uint32_t>(i + 1);
+        ++k;
+      }
+      m.normal = n;
+      m.pointCount = k;
+      return k > 0;
+    }
+  }
+  Vec3 c1, c2;
+  closestSegments(a0, a1, b0, b1, c1, c2);
+  Vec3 fallback = da.cross(db);
+  fallback = fallback.squaredNorm() > 0.0 ? Vec3(fallback.normalized()) : anyPerpendicular(da);
+  return pointContact(c1, rA, c2, rB, margin, fallback, m);
+}
+
+// Sphere A against (possibly rounded) box B.
+bool sphereBox(const Shape& a, const Transform& ta, const Shape& b, const Transform& tb,
+               double margin, Manifold& m) {
+  const Vec3& h = b.halfExtents();
+  const Vec3 c = tb.applyInverse(ta.p);
+  const Vec3 q = c.cwiseMax(-h).cwiseMin(h);
+  if (q != c)
+    return pointContact(ta.p, a.radius(), tb.apply(q), b.radius(), margin, Vec3::UnitY(), m);
+  // Centre inside the core box: push out through the nearest face.
+  int axis = 0;
+  double depth = h.x() - std::abs(c.x());
+  for (int k = 1; k < 3; ++k) {
+    const double dk = h[k] - std::abs(c[k]);
+    if (dk < depth) depth = dk, axis = k;
+  }
+  const double sign = c[axis] >= 0.0 ? 1.0 : -1.0;
+  const Vec3 out = tb.rotate(Vec3::Unit(axis) * sign);  // box face normal, towards the sphere
+  const double sep = -depth - a.radius() - b.radius();
+  if (sep >= margin) return false;
+  Vec3 face = c;
+  face[axis] = sign * h[axis];
+  const Vec3 boxSurface = tb.apply(face) + b.radius() * out;
+  const Vec3 sphereSurface = ta.p - a.radius() * out;
+  m.normal = -out;
+  m.points[0] = {0.5 * (boxSurface + sphereSurface), sep, 0};
+  m.pointCount = 1;
+  return true;
+}
+
+// Box-box by the separating axis test over 15 axes, then face clipping or an edge pair.
+bool boxBox(const Shape& a, const Transform& ta, const Shape& b, const Transform& tb, double margin,
+            Manifold& m) {
+  const Mat3 RA = ta.q.toRotationMatrix(), RB = tb.q.toRotationMatrix();
+  const Vec3 &hA = a.halfExtents(), &hB = b.halfExtents();
+  const Mat3 C = RA.transpose() * RB;  // B's axes in A's frame (columns)
+  const Mat3 absC = C.cwiseAbs();
+  const Vec3 d = RA.transpose() * (tb.p - ta.p);  // B's centre in A's frame
+
+  double sepA = -std::numeric_limits<double>::infinity(), sepB = sepA, sepE = sepA;
+  int axisA = 0, axisB = 0, edgeI = 0, edgeJ = 0;
+  for (int i = 0; i < 3; ++i) {
+    const double s = std::abs(d[i]) - (hA[i] + absC.row(i).dot(hB));
+    if (s > margin) return false;
+    if (s > sepA) sepA = s, axisA = i;
+  }
+  for (int j = 0; j < 3; ++j) {
+    const double s = std::abs(d.dot(C.col(j))) - (absC.col(j).dot(hA) + hB[j]);
+    if (s > margin) return false;
+    if (s > sepB) sepB = s, axisB = j;
+  }
+  Vec3 edgeAxis = Vec3::UnitX();
+  for (int i = 0; i < 3; ++i) {
+    for (int j = 0; j < 3; ++j) {
+      Vec3 axis = Vec3::Unit(i).cross(C.col(j));
+      const double len = axis.norm();
+      if (len < 1e-6) continue;  // parallel edges: covered by the face axes
+      axis /= len;
+      const double rA = axis.cwiseAbs().dot(hA);
+      const double rB = (C.transpose() * axis).cwiseAbs().dot(hB);
+      const double s = std::abs(d.dot(axis)) - (rA + rB);
+      if (s > margin) return false;
+      if (s > sepE) sepE = s, edgeI = i, edgeJ = j, edgeAxis = axis;
+    }
+  }
+
+  const bool useB = clearlyBetter(sepB, sepA);
+  const double faceSep = useB ? sepB : sepA;
+  if (!clearlyBetter(sepE, faceSep)) {
+    Feature ref, inc;
+    if (!useB) {
+      const Vec3 n = RA.col(axisA) * (d[axisA] >= 0.0 ? 1.0 : -1.0);
+      detail::supportingFeature(a, ta, n, ref);
+      detail::supportingFeature(b, tb, -n, inc);
+      m.normal = n;
+      return detail::clipFeatures(ref, inc, true, 0.0, 0.0, margin, m) > 0;
+    }
+    const Vec3 n = RB.col(axisB) * (d.dot(C.col(axisB)) >= 0.0 ? 1.0 : -1.0);  // A to B
+    detail::supportingFeature(b, tb, -n, ref);
+    detail::supportingFeature(a, ta, n, inc);
+    m.normal = n;
+    return detail::clipFeatures(ref, inc, false, 0.0, 0.0, margin, m) > 0;
+  }
+
+  // Edge against edge: the two supporting edges' closest points (in A's frame).
+  const Vec3 n = d.dot(edgeAxis) >= 0.0 ? edgeAxis : Vec3(-edgeAxis);
+  Vec3 ca = Vec3::Zero(), cb = d;
+  uint32_t codeA = static_cast<uint32_t>(edgeI) << 4, codeB = static_cast<uint32_t>(edgeJ) << 4;
+  for (int k = 0; k < 3; ++k) {
+    if (k != edgeI) {
+      const bool pos = n[k] >= 0.0;
+      ca[k] = pos ? hA[k] : -hA[k];
+      codeA |= (pos ? 1u : 0u) << k;
+    }
+    if (k != edgeJ) {
+      const bool pos = n.dot(C.col(k)) <= 0.0;
+      cb += C.col(k) * (pos ? hB[k] : -hB[k]);
+      codeB |= (pos ? 1u : 0u) << k;
+    }
+  }
+  const Vec3 ea = Vec3::Unit(edgeI) * hA[edgeI], eb = C.col(edgeJ) * hB[edgeJ];
+  Vec3 pa, pb;
+  closestSegments(ca - ea, ca + ea, cb - eb, cb + eb, pa, pb);
+  const double sep = (pb - pa).dot(n);
+  if (sep >= margin) return false;
+  m.normal = RA * n;
+  m.points[0] = {ta.apply(0.5 * (pa + pb)), sep, 0x40000000u | (codeA << 8) | codeB};
+  m.pointCount = 1;
+  return true;
+}
+
+// Plane A against a convex shape B: every core vertex within the margin, reduced to 4.
+bool planeConvex(const Shape& plane, const Transform& tp, const Shape& s, const Transform& ts,
+                 double margin, Manifold& m) {
+  const Vec3 n = tp.rotate(plane.planeNormal());
+  const double offset = plane.planeOffset() + n.dot(tp.p);
+  const double r = s.radius();
+  m.normal = n;
+  m.pointCount = 0;
+  // Candidate core points with their heights above the plane.
+  std::array<Vec3, 8> fixedPts;
+  int count = 0;
+  const Vec3* pts = fixedPts.data();
+  switch (s.type()) {
+    case ShapeType::Sphere:
+      fixedPts[count++] = ts.p;
+      break;
+    case ShapeType::Capsule:
+      capsuleEnds(s, ts, fixedPts[0], fixedPts[1]);
+      count = 2;
+      break;
+    case ShapeType::Box:
+      for (int i = 0; i < 8; ++i) {
+        const Vec3& h = s.halfExtents();
+        fixedPts[i] = ts.apply(
+            Vec3((i & 1) ? h.x() : -h.x(), (i & 2) ? h.y() : -h.y(), (i & 4) ? h.z() : -h.z()));
+      }
+      count = 8;
+      break;
+    case ShapeType::ConvexHull: {
+      // Scratch reused across calls: no allocation once warm.
+      thread_local std::vector<Vec3> hullPts;
+      const auto& v = s.hull().vertices;
+      hullPts.resize(v.size());
+      for (size_t i = 0; i < v.size(); ++i) hullPts[i] = ts.apply(v[i]);
+      pts = hullPts.data();
+      count = static_cast<int>(v.size());
+      break;
+    }
+    default:
+      return false;
+  }
+  thread_local std::vector<Vec3> cand;
+  thread_local std::vector<double> seps;
+  thread_local std::vector<uint32_t> ids;
+  cand.clear(), seps.clear(), ids.clear();
+  for (int i = 0; i < count; ++i) {
+    const double h = n.dot(pts[i]) - offset;
+    const double sep = h - r;
+    if (sep >= margin) continue;
+    cand.push_back(pts[i] - n * (0.5 * (h + r)));  // midway: plane point and shape surface
+    seps.push_back(sep);
+    ids.push_back(static_cast<uint32_t>(i));
+  }
+  std::array<int, 4> keep;
+  const int k =
+      detail::reducePoints(cand.data(), seps.data(), static_cast<int>(cand.size()), n, keep);
+  for (int i = 0; i < k; ++i) m.points[i] = {cand[keep[i]], seps[keep[i]], ids[keep[i]]};
+  m.pointCount = k;
+  return k > 0;
+}
+
+// Any two convex shapes: GJK distance between the cores (or libccd penetration when they
+// overlap) gives the normal; the supporting features are then clipped into a manifold when a
+// face is the separating axis, else the single closest-point pair is used.
+bool convexGeneric(const Shape& a, const Transform& ta, const Shape& b, const Transform& tb,
+                   double margin, Manifold& m) {
+  const Core ca(a, ta), cb(b, tb);
+  const double rA = ca.radius, rB = cb.radius;
+  const detail::CoreDistance dist = detail::coreDistance(ca, cb);
+  Vec3 n, pos;
+  double sep;
+  if (!dist.overlap) {
+    sep = dist.distance - rA - rB;
+    if (sep >= margin) return false;
+    n = (dist.pointB - dist.pointA) / dist.distance;
+    pos = 0.5 * ((dist.pointA + rA * n) + (dist.pointB - rB * n));
+  } else {
+    const detail::CorePenetration pen = detail::corePenetration(ca, cb);
+    if (pen.ok) {
+      n = pen.normal;
+      sep = -pen.depth - rA - rB;
+      pos = pen.point;
+    } else {  // libccd gave up (degenerate touching): push apart along the centres
+      const Vec3 d = cb.center() - ca.center();
+      n = d.squaredNorm() > 0.0 ? Vec3(d.normalized()) : Vec3(Vec3::UnitY());
+      sep = -rA - rB;
+      pos = 0.5 * (ca.center() + cb.center());
+    }
+  }
+  m.normal = n;
+
+  Feature fa, fb;
+  detail::supportingFeature(a, ta, n, fa);
+  detail::supportingFeature(b, tb, -n, fb);
+  const double alignA = fa.count >= 3 ? fa.normal.dot(n) : -1.0;
+  const double alignB = fb.count >= 3 ? -fb.normal.dot(n) : -1.0;
+  const bool refIsA = alignA >= alignB;
+  const Feature& ref = refIsA ? fa : fb;
+  const Feature& inc = refIsA ? fb : fa;
+  if (std::max(alignA, alignB) > 0.7 && inc.count >= 2) {
+    // Use the face only if its axis separates nearly as well as the true normal does.
+    const Vec3 faceN = ref.normal;
+    const Vec3 incSupport = refIsA ? cb.support(-faceN) : ca.support(-faceN);
+    const double faceSep = (incSupport - ref.p[0]).dot(faceN) - rA - rB;
+    if (faceSep >= sep - (1e-4 + 1e-3 * std::abs(sep))) {
+      Manifold trial = m;
+      trial.normal = refIsA ? faceN : Vec3(-faceN);
+      if (detail::clipFeatures(ref, inc, refIsA, refIsA ? rA : rB, refIsA ? rB : rA, margin,
+                               trial) > 0) {
+        m = trial;
+        return true;
+      }
+    }
+  }
+  if (dist.overlap && (fa.count == 1 || fb.count == 1)) {
+    // libccd's point is only roughly inside the overlap: when one side touches with a single
+    // point (sphere centre, capsule end, vertex) the witness pair follows from it exactly.
+    const double coreSep = sep + rA + rB;
+    const Vec3 pA = fa.count == 1 ? fa.p[0] : Vec3(fb.p[0] - coreSep * n);
+    const Vec3 pB = pA + coreSep * n;
+    pos = 0.5 * ((pA + rA * n) + (pB - rB * n));
+  }
+  m.points[0] = {pos, sep, ((fa.face & 0xFFFFu) << 16) | (fb.face & 0xFFFFu)};
+  m.pointCount = 1;
+  return true;
+}
+
+// Convex pairs with type(a) <= type(b) (Sphere < Box < Capsule < ConvexHull).
+bool collideOrdered(const Shape& a, const Transform& ta, const Shape& b, const Transform& tb,
+                    double margin, Manifold& m) {
+  const ShapeType A = a.type(), B = b.type();
+  if (A == ShapeType::Sphere) {
+    if (B == ShapeType::Sphere) return sphereSphere(a, ta, b, tb, margin, m);
+    if (B == ShapeType::Box) return sphereBox(a, ta, b, tb, margin, m);
+    if (B == ShapeType::Capsule) return sphereCapsule(a, ta, b, tb, margin, m);
+  }
+  if (A == ShapeType::Box && B == ShapeType::Box && a.radius() == 0.0 && b.radius() == 0.0)
+    return boxBox(a, ta, b, tb, margin, m);
+  if (A == ShapeType::Capsule && B == ShapeType::Capsule)
+    return capsuleCapsule(a, ta, b, tb, margin, m);
+  return convexGeneric(a, ta, b, tb, margin, m);
+}
+
+// Children of compound `c` whose bounds overlap `box` (in c's frame), in index order.
+void overlappingChildren(const Shape& c, const Aabb& box, std::vector<uint32_t>& out) {
+  out.clear();
+  c.tree().query(box, [&](int32_t i) { out.push_back(static_cast<uint32_t>(i)); });
+  std::sort(out.begin(), out.end());
+}
+
+}  // namespace
+
+bool collideConvex(const Shape& a, const Transform& ta, const Shape& b, const Transform& tb,
+                   double margin, Manifold& out) {
+  out = Manifold{};
+  const ShapeType A = a.type(), B = b.type();
+  if (A == ShapeType::Compound || B == ShapeType::Compound) return false;
+  if (A == ShapeType::Plane && B == ShapeType::Plane) return false;
+  if (A == ShapeType::Plane) return planeConvex(a, ta, b, tb, margin, out);
+  bool hit;
+  if (B == ShapeType::Plane || A > B) {
+    hit = B == ShapeType::Plane ? planeConvex(b, tb, a, ta, margin, out)
+                                : collideOrdered(b, tb, a, ta, margin, out);
+    if (hit) flip(out);
+  } else {
+    hit = collideOrdered(a, ta, b, tb, margin, out);
+  }
+  if (!hit) out.pointCount = 0;
+  return hit;
+}
+
+int collide(const Shape& a, const Transform& ta, const Shape& b, const Transform& tb, double margin,
+            std::vector<Manifold>& out) {
+  if (a.type() == ShapeType::Compound) {
+    // Each overlapping child of A against all of B (B may be a compound too).
+    std::vector<uint32_t> kids;
+    overlappingChildren(a, b.bounds(ta.inverse() * tb).inflated(margin), kids);
+    int total = 0;
+    for (uint32_t i : kids) {
+      const CompoundChild& c = a.children()[i];
+      const size_t first = out.size();
+      total += collide(*c.shape, ta * c.local, b, tb, margin, out);
+      for (size_t k = first; k < out.size(); ++k) out[k].childA = i;
+    }
+    return total;
+  }
+  if (b.type() == ShapeType::Compound) {
+    thread_local std::vector<uint32_t> kids;
+    overlappingChildren(b, a.bounds(tb.inverse() * ta).inflated(margin), kids);
+    int total = 0;
+    for (uint32_t i : kids) {
+      const CompoundChild& c = b.children()[i];
+      Manifold m;
+      if (!collideConvex(a, ta, *c.shape, tb * c.local, margin, m)) continue;
+      m.childB = i;
+      out.push_back(m);
+      ++total;
+    }
+    return total;
+  }
+  Manifold m;
+  if (!collideConvex(a, ta, b, tb, margin, m)) return 0;
+  out.push_back(m);
+  return 1;
+}
+
+}  // namespace grip

@@ -1,0 +1,408 @@
+#include <gtest/gtest.h>
+
+#include <algorithm>
+
+#include "collision/narrowphase.hpp"
+#include "test_util.hpp"
+
+using namespace grip;
+using grip::test::at;
+using grip::test::boxCorners;
+using grip::test::rot;
+
+namespace {
+
+Manifold collideOne(const ShapePtr& a, const Transform& ta, const ShapePtr& b, const Transform& tb,
+                    double margin = 0.1) {
+  Manifold m;
+  m.pointCount = -1;
+  const bool hit = collideConvex(*a, ta, *b, tb, margin, m);
+  EXPECT_EQ(hit, m.pointCount > 0);
+  return m;
+}
+
+void expectNormal(const Manifold& m, const Vec3& n, double tol = 1e-12) {
+  EXPECT_TRUE(m.normal.isApprox(n, tol) || (m.normal - n).norm() < tol)
+      << "normal " << m.normal.transpose() << " expected " << n.transpose();
+}
+
+// Points sorted by position so two manifolds can be compared regardless of order.
+std::vector<ContactPoint> sorted(const Manifold& m) {
+  std::vector<ContactPoint> v(m.points.begin(), m.points.begin() + m.pointCount);
+  std::sort(v.begin(), v.end(), [](const ContactPoint& a, const ContactPoint& b) {
+    for (int k = 0; k < 3; ++k)
+      if (std::abs(a.position[k] - b.position[k]) > 1e-7) return a.position[k] < b.position[k];
+    return false;
+  });
+  return v;
+}
+
+double quadArea(const Manifold& m, const Vec3& n) {
+  // Area of the convex hull of up to 4 coplanar points (sorted by angle around the centroid).
+  Vec3 c = Vec3::Zero();
+  for (int i = 0; i < m.pointCount; ++i) c += m.points[i].position;
+  c /= m.pointCount;
+  Vec3 t1, t2;
+  tangentBasis(n, t1, t2);
+  std::vector<std::pair<double, Vec3>> p;
+  for (int i = 0; i < m.pointCount; ++i) {
+    const Vec3 d = m.points[i].position - c;
+    p.push_back({std::atan2(d.dot(t2), d.dot(t1)), m.points[i].position});
+  }
+  std::sort(p.begin(), p.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+  double area = 0.0;
+  for (size_t i = 0; i < p.size(); ++i)
+    area += 0.5 * (p[i].second - c).cross(p[(i + 1) % p.size()].second - c).dot(n);
+  return area;
+}
+
+const ShapePtr kUnitBox = Shape::box(Vec3(0.5, 0.5, 0.5));
+
+}  // namespace
+
+TEST(SphereSphere, DistanceNormalAndMidpoint) {
+  auto a = Shape::sphere(1.0), b = Shape::sphere(1.5);
+  Manifold m = collideOne(a, at(Vec3(1, 2, 3)), b, at(Vec3(1, 2, 3) + Vec3(0, 0, 3.0)), 1.0);
+  ASSERT_EQ(m.pointCount, 1);
+  expectNormal(m, Vec3::UnitZ());
+  EXPECT_NEAR(m.points[0].separation, 0.5, 1e-12);
+  EXPECT_TRUE(m.points[0].position.isApprox(Vec3(1, 2, 3 + 1.25), 1e-12));
+  // Overlapping, and seen from the other side.
+  m = collideOne(b, at(Vec3(2, 0, 0)), a, at(Vec3::Zero()));
+  ASSERT_EQ(m.pointCount, 1);
+  expectNormal(m, -Vec3::UnitX());
+  EXPECT_NEAR(m.points[0].separation, -0.5, 1e-12);
+  EXPECT_TRUE(m.points[0].position.isApprox(Vec3(0.75, 0, 0), 1e-12));
+  // Beyond the margin: nothing.
+  EXPECT_EQ(collideOne(a, at(Vec3::Zero()), b, at(Vec3(2.61, 0, 0)), 0.1).pointCount, 0);
+  EXPECT_EQ(collideOne(a, at(Vec3::Zero()), b, at(Vec3(2.59, 0, 0)), 0.1).pointCount, 1);
+}
+
+TEST(SphereCapsule, ClosestPointOnSegment) {
+  auto s = Shape::sphere(1.0), c = Shape::capsule(0.5, 1.0);
+  // Capsule along y; sphere beside its side and beyond its end.
+  Manifold m = collideOne(s, at(Vec3(2, 0.5, 0)), c, at(Vec3::Zero()), 1.0);
+  ASSERT_EQ(m.pointCount, 1);
+  expectNormal(m, -Vec3::UnitX());
+  EXPECT_NEAR(m.points[0].separation, 0.5, 1e-12);
+  m = collideOne(c, at(Vec3::Zero()), s, at(Vec3(0, 2.3, 0)), 1.0);
+  ASSERT_EQ(m.pointCount, 1);
+  expectNormal(m, Vec3::UnitY());
+  EXPECT_NEAR(m.points[0].separation, -0.2, 1e-12);
+  EXPECT_TRUE(m.points[0].position.isApprox(Vec3(0, 1.4, 0), 1e-12));
+}
+
+TEST(CapsuleCapsule, CrossingGivesOnePointParallelGivesTwo) {
+  auto c = Shape::capsule(0.25, 1.0);
+  Manifold m =
+      collideOne(c, at(Vec3::Zero()), c, at(Vec3(0.4, 0.3, 0), rot(kPi / 2, Vec3::UnitX())));
+  ASSERT_EQ(m.pointCount, 1);
+  expectNormal(m, Vec3::UnitX());
+  EXPECT_NEAR(m.points[0].separation, -0.1, 1e-12);
+  EXPECT_TRUE(m.points[0].position.isApprox(Vec3(0.2, 0.3, 0), 1e-12));
+
+  m = collideOne(c, at(Vec3::Zero()), c, at(Vec3(0.45, 0.5, 0)));
+  ASSERT_EQ(m.pointCount, 2);
+  expectNormal(m, Vec3::UnitX());
+  std::vector<ContactPoint> p = sorted(m);
+  EXPECT_NEAR(p[0].separation, -0.05, 1e-12);
+  EXPECT_NEAR(p[1].separation, -0.05, 1e-12);
+  EXPECT_TRUE(p[0].position.isApprox(Vec3(0.225, -0.5, 0), 1e-12));
+  EXPECT_TRUE(p[1].position.isApprox(Vec3(0.225, 1.0, 0), 1e-12));
+}
+
+TEST(SphereBox, OutsideFaceCornerAndInside) {
+  auto s = Shape::sphere(1.0);
+  Manifold m = collideOne(s, at(Vec3(2.3, 0.2, -0.1)), kUnitBox, at(Vec3::Zero()), 1.0);
+  ASSERT_EQ(m.pointCount, 1);
+  expectNormal(m, -Vec3::UnitX());
+  EXPECT_NEAR(m.points[0].separation, 0.8, 1e-12);
+  // Corner region of a box rotated about y.
+  const Transform tb = at(Vec3(1, 0, 0), rot(0.3, Vec3::UnitY()));
+  const Vec3 corner = tb.apply(Vec3(0.5, 0.5, 0.5));
+  const Vec3 dir = (tb.rotate(Vec3(1, 1, 1))).normalized();
+  m = collideOne(kUnitBox, tb, s, at(corner + 1.05 * dir), 1.0);
+  ASSERT_EQ(m.pointCount, 1);
+  expectNormal(m, dir, 1e-12);
+  EXPECT_NEAR(m.points[0].separation, 0.05, 1e-12);
+  // Centre inside the box: pushed out through the nearest (+x) face.
+  m = collideOne(s, at(Vec3(0.3, 0.1, 0)), kUnitBox, at(Vec3::Zero()));
+  ASSERT_EQ(m.pointCount, 1);
+  expectNormal(m, -Vec3::UnitX());
+  EXPECT_NEAR(m.points[0].separation, -1.2, 1e-12);
+  // A rounded box is bigger by its rounding.
+  m = collideOne(s, at(Vec3(2.3, 0, 0)), Shape::box(Vec3(0.5, 0.5, 0.5), 0.1), at(Vec3::Zero()),
+                 1.0);
+  EXPECT_NEAR(m.points[0].separation, 0.7, 1e-12);
+}
+
+TEST(BoxPlane, RestingBoxGivesFourBottomCorners) {
+  auto ground = Shape::plane(Vec3::UnitY(), 0.0);
+  Manifold m = collideOne(ground, at(Vec3::Zero()), kUnitBox, at(Vec3(3, 0.48, 1)), 0.05);
+  ASSERT_EQ(m.pointCount, 4);
+  expectNormal(m, Vec3::UnitY());
+  for (int i = 0; i < 4; ++i) {
+    EXPECT_NEAR(m.points[i].separation, -0.02, 1e-12);
+    EXPECT_NEAR(m.points[i].position.y(), -0.01, 1e-12);
+    EXPECT_EQ(m.points[i].featureId & 2u, 0u);  // bottom vertices: y bit clear
+  }
+  // Plane as B: the normal flips, points stay.
+  Manifold f = collideOne(kUnitBox, at(Vec3(3, 0.48, 1)), ground, at(Vec3::Zero()), 0.05);
+  expectNormal(f, -Vec3::UnitY());
+  EXPECT_EQ(f.pointCount, 4);
+  // Standing on an edge (45 degrees about z): the two lowest corners only.
+  const double low = 0.5 * std::sqrt(2.0);
+  m = collideOne(ground, at(Vec3::Zero()), kUnitBox,
+                 at(Vec3(0, low - 0.01, 0), rot(kPi / 4, Vec3::UnitZ())), 0.05);
+  ASSERT_EQ(m.pointCount, 2);
+  for (int i = 0; i < 2; ++i) EXPECT_NEAR(m.points[i].separation, -0.01, 1e-12);
+  // A plane with an offset and a transform: y <= 1 moved up by 0.5.
+  m = collideOne(Shape::plane(Vec3::UnitY(), 1.0), at(Vec3(0, 0.5, 0)), kUnitBox,
+                 at(Vec3(0, 2.0, 0)), 0.05);
+  ASSERT_EQ(m.pointCount, 4);
+  EXPECT_NEAR(m.points[0].separation, 0.0, 1e-12);
+}
+
+TEST(PlaneConvex, SphereCapsuleHullAndRoundedBox) {
+  auto ground = Shape::plane(Vec3(0, 1, 0), 0.0);
+  Manifold m = collideOne(ground, at(Vec3::Zero()), Shape::sphere(0.5), at(Vec3(1, 0.4, 0)));
+  ASSERT_EQ(m.pointCount, 1);
+  EXPECT_NEAR(m.points[0].separation, -0.1, 1e-12);
+  EXPECT_TRUE(m.points[0].position.isApprox(Vec3(1, -0.05, 0), 1e-12));
+  m = collideOne(ground, at(Vec3::Zero()), Shape::capsule(0.1, 1.0),
+                 at(Vec3(0, 0.09, 0), rot(kPi / 2, Vec3::UnitZ())));
+  ASSERT_EQ(m.pointCount, 2);
+  EXPECT_NEAR(m.points[0].separation, -0.01, 1e-12);
+  EXPECT_NEAR(m.points[1].separation, -0.01, 1e-12);
+  EXPECT_NE(m.points[0].featureId, m.points[1].featureId);
+  auto hull = Shape::convexHull(grip::test::randomPoints(50, 3, 0.5));
+  double lowest = 1e9;
+  for (const Vec3& v : hull->hull().vertices) lowest = std::min(lowest, v.y());
+  m = collideOne(ground, at(Vec3::Zero()), hull, at(Vec3(0, -lowest - 0.01, 0)), 0.0);
+  ASSERT_GE(m.pointCount, 1);
+  EXPECT_NEAR(m.points[0].separation, -0.01, 1e-12);
+  m = collideOne(ground, at(Vec3::Zero()), Shape::box(Vec3(0.4, 0.4, 0.4), 0.1),
+                 at(Vec3(0, 0.49, 0)), 0.0);
+  ASSERT_EQ(m.pointCount, 4);
+  EXPECT_NEAR(m.points[0].separation, -0.01, 1e-12);
+}
+
+TEST(BoxBox, FaceFaceGivesFourPointsWithDepth) {
+  Manifold m = collideOne(kUnitBox, at(Vec3::Zero()), kUnitBox, at(Vec3(0.2, 0.95, 0.1)));
+  ASSERT_EQ(m.pointCount, 4);
+  expectNormal(m, Vec3::UnitY());
+  for (int i = 0; i < 4; ++i) {
+    const ContactPoint& p = m.points[i];
+    EXPECT_NEAR(p.separation, -0.05, 1e-12);
+    EXPECT_NEAR(p.position.y(), 0.475, 1e-12);
+    // Corners of the overlap rectangle x in [-0.3, 0.5], z in [-0.4, 0.5].
+    EXPECT_TRUE(std::abs(p.position.x() + 0.3) < 1e-12 || std::abs(p.position.x() - 0.5) < 1e-12);
+    EXPECT_TRUE(std::abs(p.position.z() + 0.4) < 1e-12 || std::abs(p.position.z() - 0.5) < 1e-12);
+  }
+  EXPECT_NEAR(quadArea(m, m.normal), 0.8 * 0.9, 1e-12);
+  // Below: the normal still points from A to B.
+  m = collideOne(kUnitBox, at(Vec3::Zero()), Shape::box(Vec3(0.2, 0.2, 0.2)),
+                 at(Vec3(0, -0.68, 0)));
+  ASSERT_EQ(m.pointCount, 4);
+  expectNormal(m, -Vec3::UnitY());
+  for (int i = 0; i < 4; ++i) EXPECT_NEAR(m.points[i].separation, -0.02, 1e-12);
+  // Speculative: separated by less than the margin, positive separation.
+  m = collideOne(kUnitBox, at(Vec3::Zero()), kUnitBox, at(Vec3(1.03, 0, 0)), 0.05);
+  ASSERT_EQ(m.pointCount, 4);
+  expectNormal(m, Vec3::UnitX());
+  EXPECT_NEAR(m.points[0].separation, 0.03, 1e-12);
+  EXPECT_EQ(collideOne(kUnitBox, at(Vec3::Zero()), kUnitBox, at(Vec3(1.06, 0, 0)), 0.05).pointCount,
+            0);
+}
+
+TEST(BoxBox, EdgeEdgeGivesOnePoint) {
+  const double e = 0.5 * std::sqrt(2.0);
+  Manifold m = collideOne(kUnitBox, at(Vec3::Zero(), rot(kPi / 4, Vec3::UnitZ())), kUnitBox,
+                          at(Vec3(0.1, 2 * e - 0.02, 0.05), rot(kPi / 4, Vec3::UnitX())));
+  ASSERT_EQ(m.pointCount, 1);
+  expectNormal(m, Vec3::UnitY(), 1e-12);
+  EXPECT_NEAR(m.points[0].separation, -0.02, 1e-12);
+  EXPECT_TRUE(m.points[0].position.isApprox(Vec3(0.0, e - 0.01, 0.05), 1e-12))
+      << m.points[0].position.transpose();
+}
+
+TEST(BoxBox, Rotated45OctagonReducedToFourPoints) {
+  Manifold m = collideOne(kUnitBox, at(Vec3::Zero()), kUnitBox,
+                          at(Vec3(0, 0.98, 0), rot(kPi / 4, Vec3::UnitY())));
+  ASSERT_EQ(m.pointCount, 4);
+  expectNormal(m, Vec3::UnitY());
+  const Transform tb = at(Vec3(0, 0.98, 0), rot(kPi / 4, Vec3::UnitY()));
+  for (int i = 0; i < 4; ++i) {
+    const Vec3 p = m.points[i].position;
+    EXPECT_NEAR(m.points[i].separation, -0.02, 1e-12);
+    // On the octagon: inside both squares, on the boundary of one of them.
+    const Vec3 q = tb.applyInverse(p);
+    EXPECT_LE(std::max(std::abs(p.x()), std::abs(p.z())), 0.5 + 1e-12);
+    EXPECT_LE(std::max(std::abs(q.x()), std::abs(q.z())), 0.5 + 1e-12);
+  }
+  // The octagon's area is 4(sqrt2 - 1) ~ 0.828; the best 4 of its corners span ~0.586 (a
+  // regular octagon's inscribed square); a bad choice (4 neighbours) spans much less.
+  EXPECT_GT(quadArea(m, m.normal), 0.55);
+}
+
+TEST(BoxBox, FeatureIdsStableUnderSmallMotion) {
+  const Transform ta = at(Vec3::Zero());
+  Manifold m0 =
+      collideOne(kUnitBox, ta, kUnitBox, at(Vec3(0.2, 0.98, 0.1), rot(0.3, Vec3::UnitY())));
+  Manifold m1 = collideOne(
+      kUnitBox, ta, kUnitBox,
+      at(Vec3(0.2003, 0.9799, 0.1002), rot(0.301, Vec3::UnitY()) * rot(0.001, Vec3::UnitX())));
+  ASSERT_EQ(m0.pointCount, 4);
+  ASSERT_EQ(m1.pointCount, 4);
+  std::vector<uint32_t> a, b;
+  for (int i = 0; i < 4; ++i)
+    a.push_back(m0.points[i].featureId), b.push_back(m1.points[i].featureId);
+  std::sort(a.begin(), a.end());
+  std::sort(b.begin(), b.end());
+  EXPECT_EQ(a, b);
+  EXPECT_EQ(std::unique(a.begin(), a.end()), a.end());  // ids distinct within a manifold
+}
+
+TEST(Generic, HullOfBoxCornersAgreesWithBoxBox) {
+  auto hull = Shape::convexHull(boxCorners(Vec3(0.5, 0.5, 0.5)));
+  const std::vector<std::pair<Transform, Transform>> cases = {
+      {at(Vec3::Zero()), at(Vec3(0.2, 0.95, 0.1))},                           // face, deep
+      {at(Vec3::Zero()), at(Vec3(0.2, 1.03, 0.1), rot(0.2, Vec3::UnitY()))},  // face, gap
+      {at(Vec3(1, 2, 3), rot(0.4, Vec3(1, 2, 3))),
+       at(Vec3(1, 2, 3) + rot(0.4, Vec3(1, 2, 3)) * Vec3(0.1, -0.3, 0.99))},
+      {at(Vec3::Zero()), at(Vec3(0, 0.98, 0), rot(kPi / 4, Vec3::UnitY()))},  // octagon
+  };
+  for (const auto& [ta, tb] : cases) {
+    const Manifold ref = collideOne(kUnitBox, ta, kUnitBox, tb);
+    const Manifold got = collideOne(hull, ta, hull, tb);
+    ASSERT_EQ(got.pointCount, ref.pointCount);
+    EXPECT_LT((got.normal - ref.normal).norm(), 1e-6);
+    const auto p = sorted(ref), q = sorted(got);
+    for (size_t i = 0; i < p.size(); ++i) {
+      EXPECT_NEAR(q[i].separation, p[i].separation, 1e-6);
+      EXPECT_LT((q[i].position - p[i].position).norm(), 1e-6);
+    }
+  }
+}
+
+TEST(Generic, LibccdPenetrationPointsFromAToB) {
+  // Cores overlap (no rounding): the depth and direction come from libccd's EPA.
+  auto hull = Shape::convexHull(boxCorners(Vec3(0.5, 0.5, 0.5)));
+  auto tet = Shape::convexHull({Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(0, 0, 1)});
+  Manifold m = collideOne(hull, at(Vec3::Zero()), tet, at(Vec3(0.3, -0.2, -0.3)));
+  ASSERT_GE(m.pointCount, 1);
+  expectNormal(m, Vec3::UnitX(), 1e-6);
+  for (int i = 0; i < m.pointCount; ++i) EXPECT_GE(m.points[i].separation, -0.2 - 1e-6);
+  EXPECT_NEAR(std::min_element(m.points.begin(), m.points.begin() + m.pointCount,
+                               [](auto& a, auto& b) { return a.separation < b.separation; })
+                  ->separation,
+              -0.2, 1e-6);
+  m = collideOne(tet, at(Vec3(0.3, -0.2, -0.3)), hull, at(Vec3::Zero()));
+  expectNormal(m, -Vec3::UnitX(), 1e-6);
+}
+
+TEST(Generic, SphereAgainstHullMatchesSphereBox) {
+  auto hull = Shape::convexHull(boxCorners(Vec3(0.5, 0.5, 0.5)));
+  auto s = Shape::sphere(0.3);
+  for (const Vec3& c :
+       {Vec3(0.7, 0.1, 0.2), Vec3(0.6, 0.6, 0.65), Vec3(0.3, 0.1, 0.0), Vec3(0.2, -0.45, 0.1)}) {
+    const Manifold ref = collideOne(s, at(c), kUnitBox, at(Vec3::Zero()), 0.5);
+    const Manifold got = collideOne(s, at(c), hull, at(Vec3::Zero()), 0.5);
+    ASSERT_EQ(ref.pointCount, 1);
+    ASSERT_EQ(got.pointCount, 1);
+    EXPECT_LT((got.normal - ref.normal).norm(), 1e-6) << c.transpose();
+    EXPECT_NEAR(got.points[0].separation, ref.points[0].separation, 1e-6) << c.transpose();
+    EXPECT_LT((got.points[0].position - ref.points[0].position).norm(), 1e-6) << c.transpose();
+  }
+}
+
+TEST(CapsuleBox, LyingGivesTwoPointsStandingGivesOne) {
+  auto cap = Shape::capsule(0.1, 0.3);
+  // Lying along x on top of the unit box.
+  Manifold m = collideOne(kUnitBox, at(Vec3::Zero()), cap,
+                          at(Vec3(0.1, 0.58, 0), rot(kPi / 2, Vec3::UnitZ())));
+  ASSERT_EQ(m.pointCount, 2);
+  expectNormal(m, Vec3::UnitY(), 1e-9);
+  for (int i = 0; i < 2; ++i) {
+    EXPECT_NEAR(m.points[i].separation, -0.02, 1e-9);
+    EXPECT_NEAR(std::abs(m.points[i].position.x() - 0.1), 0.3, 1e-9);
+    EXPECT_NEAR(m.points[i].position.y(), 0.49, 1e-9);
+  }
+  // Hanging over the edge: clipped at x = 0.5.
+  m = collideOne(kUnitBox, at(Vec3::Zero()), cap,
+                 at(Vec3(0.6, 0.58, 0), rot(kPi / 2, Vec3::UnitZ())));
+  ASSERT_EQ(m.pointCount, 2);
+  EXPECT_NEAR(std::max(m.points[0].position.x(), m.points[1].position.x()), 0.5, 1e-9);
+  // Standing upright: one point under the lower cap.
+  m = collideOne(cap, at(Vec3(0.1, 0.88, 0.2)), kUnitBox, at(Vec3::Zero()));
+  ASSERT_EQ(m.pointCount, 1);
+  expectNormal(m, -Vec3::UnitY(), 1e-9);
+  EXPECT_NEAR(m.points[0].separation, -0.02, 1e-9);
+  // Deep: the segment itself inside the box (libccd on the cores).
+  m = collideOne(kUnitBox, at(Vec3::Zero()), cap,
+                 at(Vec3(0.0, 0.45, 0), rot(kPi / 2, Vec3::UnitZ())));
+  ASSERT_EQ(m.pointCount, 2);
+  expectNormal(m, Vec3::UnitY(), 1e-6);
+  EXPECT_NEAR(m.points[0].separation, -0.15, 1e-6);
+}
+
+TEST(Generic, RoundedBoxRestsLikeSharpBox) {
+  auto rounded = Shape::box(Vec3(0.4, 0.4, 0.4), 0.1);
+  Manifold m = collideOne(kUnitBox, at(Vec3::Zero()), rounded, at(Vec3(0.1, 0.98, 0)));
+  ASSERT_EQ(m.pointCount, 4);
+  expectNormal(m, Vec3::UnitY(), 1e-9);
+  for (int i = 0; i < 4; ++i) EXPECT_NEAR(m.points[i].separation, -0.02, 1e-9);
+}
+
+TEST(Compound, ChildrenAgainstPlaneInIndexOrder) {
+  std::vector<CompoundChild> kids;
+  auto cube = Shape::box(Vec3(0.1, 0.1, 0.1));
+  for (int i = 0; i < 5; ++i) kids.push_back({cube, at(Vec3(0.3 * i, 0.1 * i, 0))});
+  auto c = Shape::compound(kids);
+  auto ground = Shape::plane(Vec3::UnitY(), 0.0);
+  std::vector<Manifold> out;
+  // Child 0's bottom at y = -0.01, child 1's at 0.09 (within margin 0.1), others farther.
+  const int n = collide(*c, at(Vec3(0, 0.09, 0)), *ground, at(Vec3::Zero()), 0.1, out);
+  ASSERT_EQ(n, 2);
+  ASSERT_EQ(out.size(), 2u);
+  EXPECT_EQ(out[0].childA, 0u);
+  EXPECT_EQ(out[1].childA, 1u);
+  expectNormal(out[0], -Vec3::UnitY());
+  EXPECT_NEAR(out[0].points[0].separation, -0.01, 1e-12);
+  EXPECT_NEAR(out[1].points[0].separation, 0.09, 1e-12);
+  // Swapped: childB is set, normal flips.
+  out.clear();
+  collide(*ground, at(Vec3::Zero()), *c, at(Vec3(0, 0.09, 0)), 0.1, out);
+  ASSERT_EQ(out.size(), 2u);
+  EXPECT_EQ(out[1].childB, 1u);
+  expectNormal(out[1], Vec3::UnitY());
+}
+
+TEST(Compound, CompoundAgainstCompound) {
+  auto cube = Shape::box(Vec3(0.5, 0.5, 0.5));
+  auto pair = Shape::compound({{cube, at(Vec3(-1, 0, 0))}, {cube, at(Vec3(1, 0, 0))}});
+  std::vector<Manifold> out;
+  // B above A, shifted so that only A1 touches B0.
+  collide(*pair, at(Vec3::Zero()), *pair, at(Vec3(2.0, 0.99, 0)), 0.0, out);
+  ASSERT_EQ(out.size(), 1u);
+  EXPECT_EQ(out[0].childA, 1u);
+  EXPECT_EQ(out[0].childB, 0u);
+  EXPECT_EQ(out[0].pointCount, 4);
+  EXPECT_NEAR(out[0].points[0].separation, -0.01, 1e-12);
+}
+
+TEST(Collide, PlanePairsAndDeterminism) {
+  auto ground = Shape::plane(Vec3::UnitY(), 0.0);
+  std::vector<Manifold> out;
+  EXPECT_EQ(collide(*ground, at(Vec3::Zero()), *ground, at(Vec3::Zero()), 0.1, out), 0);
+  auto hull = Shape::convexHull(grip::test::randomPoints(40, 9, 0.5));
+  const Transform ta = at(Vec3(0.1, 0.2, 0.3), rot(0.5, Vec3(1, 2, 0)));
+  const Transform tb = at(Vec3(0.4, 0.5, 0.2), rot(-0.7, Vec3(0, 1, 3)));
+  Manifold m1 = collideOne(hull, ta, hull, tb), m2 = collideOne(hull, ta, hull, tb);
+  ASSERT_EQ(m1.pointCount, m2.pointCount);
+  EXPECT_EQ(m1.normal, m2.normal);
+  for (int i = 0; i < m1.pointCount; ++i) {
+    EXPECT_EQ(m1.points[i].position, m2.points[i].position);
+    EXPECT_EQ(m1.points[i].featureId, m2.points[i].featureId);
+  }
+}
