@@ -610,3 +610,75 @@ TEST(BadInput, PublicEntryPointsValidate) {
 
 }  // namespace
 }  // namespace grip
+
+namespace grip {
+namespace {
+
+using namespace scenarios;
+
+// One fingertip pressed `depth` into the top face of a free 0.2 kg cube in zero gravity: the
+// contact point either method finds, and the first step's force.
+HandContactInfo pressTop(const InteractionDef& def, const BodyInteractionDef& body, double depth,
+                         const Vec3& at = Vec3(0.01, 0.55, -0.02)) {
+  World w;
+  w.setGravity(Vec3::Zero());
+  Interaction ix(def);
+  const BodyId cube = addBox(w, Vec3::Constant(0.05), 0.2, Vec3(0, 0.5, 0));
+  ix.setBodyOverrides(cube, body);
+  HandDef hd;
+  const HandId h = ix.addHand(hd);
+  HandPose p = parkedHand(hd);
+  pressBone(p, hd, boneIndex(Finger::Index, 2), at, Vec3::UnitY(), Vec3::UnitZ(), depth);
+  ix.setHandPose(h, p);
+  ix.update(w, 1.0 / 60.0);
+  const std::vector<HandContactInfo> cs = ix.contacts();
+  EXPECT_EQ(cs.size(), 1u);
+  return cs.empty() ? HandContactInfo{} : cs[0];
+}
+
+TEST(ContactPoint, RayCastAndClosestPointAgreeOnAFace) {
+  InteractionDef ray, closest;
+  ray.contactPoint = ContactPointMethod::RayCast;
+  closest.contactPoint = ContactPointMethod::ClosestPoint;
+  const HandContactInfo a = pressTop(ray, {}, 0.002), b = pressTop(closest, {}, 0.002);
+  EXPECT_TRUE(a.pressing);
+  EXPECT_TRUE(b.pressing);
+  EXPECT_LT((a.point - Vec3(0.01, 0.55, -0.02)).norm(), 1e-9);
+  EXPECT_LT((a.point - b.point).norm(), 1e-9);
+  EXPECT_LT((a.normal - b.normal).norm(), 1e-9);
+}
+
+TEST(BodyOverrides, GammaAndAutoGammaSetTheSpring) {
+  const InteractionDef def;
+  // The first step's force on a free body is the implicit spring: gamma d m / (m + h^2 gamma)
+  // along the normal (no friction involved: the push is normal).
+  auto expected = [](double gamma, double depth) {
+    const double m = 0.2, h = 1.0 / 60.0;
+    return gamma * depth * m / (m + h * h * gamma);
+  };
+  const Vec3 centre(0.0, 0.55, 0.0);  // on the centre line: no rotation
+  const HandContactInfo base = pressTop(def, {}, 0.002, centre);
+  EXPECT_NEAR(-base.force.y(), expected(400.0, 0.002), 1e-9);
+  const HandContactInfo stiff = pressTop(def, {.gamma = 1000.0}, 0.002, centre);
+  EXPECT_NEAR(-stiff.force.y(), expected(1000.0, 0.002), 1e-9);
+  // Eq. 3.11 with g = 0 falls back to the default; with gravity it is m g / (mu 0.2 d).
+  World w;
+  Interaction ix(def);
+  const BodyId cube = addBox(w, Vec3::Constant(0.05), 0.2, Vec3(0, 0.5, 0));
+  ix.setBodyOverrides(cube, {.autoGamma = true});
+  HandDef hd;
+  const HandId h = ix.addHand(hd);
+  HandPose p = parkedHand(hd);
+  // From below, against gravity: f = gamma m (d + h^2 g) / (m + h^2 gamma).
+  pressBone(p, hd, boneIndex(Finger::Index, 2), Vec3(0, 0.45, 0), -Vec3::UnitY(), Vec3::UnitZ(),
+            0.002);
+  ix.setHandPose(h, p);
+  ix.update(w, 1.0 / 60.0);
+  const double gamma =
+      autoTuneGamma(0.2, 9.81, def.skin.staticFriction, Vec3::Constant(0.1).norm());
+  const double m = 0.2, hh = 1.0 / 3600.0;
+  EXPECT_NEAR(ix.appliedForce(cube).y(), gamma * m * (0.002 + hh * 9.81) / (m + hh * gamma), 1e-9);
+}
+
+}  // namespace
+}  // namespace grip
