@@ -83,7 +83,8 @@ class Shape {
   const CompoundTree& tree() const { return tree_; }
   const SignedDistanceField* sdf() const { return sdf_.get(); }
 
-  // Mass properties at uniform density (planes have none: static only).
+  // Mass properties at uniform density (planes have none: static only). The rounding of a box
+  // or hull is a thin contact skin and is ignored here: the mass is the core shape's.
   MassProperties massProperties(double density) const;
   // Bounds in the shape's own frame and under a transform (planes: a very large box).
   Aabb localBounds() const { return localBounds_; }

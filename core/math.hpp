@@ -49,12 +49,14 @@ inline Mat3 skew(const Vec3& v) {
   return m;
 }
 
-// Integrates an orientation by angular velocity w over dt (first order, renormalised).
+// Integrates an orientation by a constant angular velocity w over dt: the exact rotation by
+// |w| dt about w (exponential map), so fast spins do not lose accuracy to a first-order step.
 inline Quat integrateRotation(const Quat& q, const Vec3& w, double dt) {
-  Quat dq(0.0, w.x(), w.y(), w.z());
-  Quat r = q;
-  Quat d = dq * q;
-  r.coeffs() += 0.5 * dt * d.coeffs();
+  const double angle = w.norm() * dt;
+  if (angle < 1e-12) return q;
+  const double half = 0.5 * angle;
+  const Vec3 axis = w * (std::sin(half) / w.norm());
+  Quat r = Quat(std::cos(half), axis.x(), axis.y(), axis.z()) * q;
   r.normalize();
   return r;
 }

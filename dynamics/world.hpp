@@ -62,13 +62,17 @@ struct BodyDef {
 struct WorldDef {
   Vec3 gravity = Vec3(0.0, -9.81, 0.0);
   int substeps = 4;          // solver substeps per step (soft step solver)
-  int relaxIterations = 1;   // velocity passes without position bias per substep
+  int relaxIterations = 1;   // velocity passes without position bias per substep (the last
+                             // one propagates support from the ground up: shock propagation)
+  int positionIterations = 2;       // position projection passes after the velocities
+  double positionCorrection = 0.2;  // fraction of the overlap the projection removes per pass
+  double positionSlop = 0.0005;     // m, overlap the projection leaves alone
   double contactHertz = 30.0;         // contact stiffness (capped at a quarter substep rate)
   double contactDampingRatio = 10.0;  // heavily damped: no bounce from position correction
   double maxPushoutVelocity = 3.0;    // m/s, cap on the speed that resolves overlap
   double restitutionThreshold = 1.0;  // m/s, slower impacts do not bounce
   double speculativeDistance = 0.02;  // m, contacts made this far before touching
-  double linearSlop = 0.005;          // m, overlap allowed to persist (keeps contact warm)
+  double linearSlop = 0.005;  // m, overlap within which velocity contacts stay rigid (no push)
   double stickVelocity = 0.01;  // m/s, tangential speed below which a contact may stick again
   bool enableSleep = true;
   double sleepLinearVelocity = 0.05;   // m/s

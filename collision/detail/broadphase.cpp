@@ -29,7 +29,9 @@ void SweepBroadphase::findPairs(const std::vector<Aabb>& boxes, const std::vecto
   }
   keys_.resize(n);
   for (uint32_t i = 0; i < n; ++i) keys_[i] = boxes[i].min[axis];
-  auto less = [&](uint32_t a, uint32_t b) { return keys_[a] < keys_[b] || (keys_[a] == keys_[b] && a < b); };
+  auto less = [&](uint32_t a, uint32_t b) {
+    return keys_[a] < keys_[b] || (keys_[a] == keys_[b] && a < b);
+  };
   for (uint32_t i = 1; i < n; ++i) {
     const uint32_t v = order_[i];
     uint32_t j = i;

@@ -145,17 +145,21 @@ struct Simplex {
 
 }  // namespace
 
-CoreDistance coreDistance(const Core& a, const Core& b) {
+namespace {
+
+// GJK on two support mappings (world space). `d` is the first search direction (A to B).
+template <class SupportA, class SupportB>
+CoreDistance gjk(const SupportA& supportA, const SupportB& supportB, Vec3 d) {
   CoreDistance out;
-  Vec3 d = b.center() - a.center();
   if (d.squaredNorm() < 1e-30) d = Vec3::UnitX();
   Simplex s;
-  Vec3 v = b.support(-d) - a.support(d);
+  Vec3 v = supportB(-d) - supportA(d);
   double vv = v.squaredNorm();
+  if (vv > 0.0) out.direction = v / std::sqrt(vv);
   for (int iter = 0; iter < 64; ++iter) {
     Vertex w;
-    w.a = a.support(v);
-    w.b = b.support(-v);
+    w.a = supportA(v);
+    w.b = supportB(-v);
     w.w = w.b - w.a;
     // No progress possible: v is (to rounding) the closest point.
     if (s.n > 0 && vv - v.dot(w.w) <= 1e-12 * vv) break;
@@ -173,6 +177,7 @@ CoreDistance coreDistance(const Core& a, const Core& b) {
       out.overlap = true;
       return out;
     }
+    out.direction = nv / std::sqrt(nvv);
     if (nvv >= vv && s.n > 1) {  // rounding: stop at the best so far
       v = nv;
       vv = nvv;
@@ -184,8 +189,8 @@ CoreDistance coreDistance(const Core& a, const Core& b) {
   out.pointA = Vec3::Zero();
   out.pointB = Vec3::Zero();
   if (s.n == 0) {  // converged on the very first guess
-    out.pointA = a.support(d);
-    out.pointB = b.support(-d);
+    out.pointA = supportA(d);
+    out.pointB = supportB(-d);
   }
   for (int i = 0; i < s.n; ++i) {
     out.pointA += s.lambda[i] * s.v[i].a;
@@ -194,6 +199,60 @@ CoreDistance coreDistance(const Core& a, const Core& b) {
   out.distance = (out.pointB - out.pointA).norm();
   if (out.distance <= 1e-12) out.overlap = true;
   return out;
+}
+
+}  // namespace
+
+CoreDistance coreDistance(const Core& a, const Core& b) {
+  return gjk([&](const Vec3& v) { return a.support(v); },
+             [&](const Vec3& v) { return b.support(v); }, b.center() - a.center());
+}
+
+CoreDistance pointDistance(const Core& a, const Vec3& x) {
+  return gjk([&](const Vec3& v) { return a.support(v); }, [&](const Vec3&) { return x; },
+             x - a.center());
+}
+
+bool convexRayCast(const Shape& s, const Vec3& origin, const Vec3& dir, double maxDistance,
+                   double& t, Vec3& normal) {
+  // Van den Bergen's GJK ray cast: advance x along the ray by the support-plane distance
+  // and keep a simplex of support points p_i; the simplex vertices are x - p_i.
+  t = 0.0;
+  normal = Vec3::Zero();
+  Vec3 x = origin;
+  Vec3 v = x - s.localCenter();
+  std::array<Vec3, 4> pts;
+  int n = 0;
+  Simplex simplex;
+  const double eps = 1e-10 * std::max(1.0, s.localBounds().extent().norm());
+  for (int iter = 0; iter < 64 && v.squaredNorm() > eps * eps; ++iter) {
+    const Vec3 p = s.support(v);
+    const Vec3 w = x - p;
+    if (v.dot(w) > 0.0) {
+      if (v.dot(dir) >= 0.0) return false;  // moving away from the support plane
+      t -= v.dot(w) / v.dot(dir);
+      if (t > maxDistance) return false;
+      x = origin + t * dir;
+      normal = v;
+    }
+    bool duplicate = false;
+    for (int i = 0; i < n; ++i) duplicate = duplicate || pts[i] == p;
+    if (!duplicate) {
+      if (n == 4) break;
+      pts[n++] = p;
+    }
+    simplex.n = n;
+    for (int i = 0; i < n; ++i) {
+      simplex.v[i].a = pts[i];
+      simplex.v[i].w = x - pts[i];
+    }
+    if (!simplex.solve()) break;  // x inside the simplex: on the surface (to tolerance)
+    n = simplex.n;
+    for (int i = 0; i < n; ++i) pts[i] = simplex.v[i].a;
+    v = simplex.point();
+  }
+  if (normal.squaredNorm() > 0.0) normal.normalize();
+  return true;
 }
 
 namespace {

@@ -23,10 +23,21 @@ struct CoreDistance {
   bool overlap = false;  // the cores intersect (distance 0): use corePenetration
   double distance = 0.0;
   Vec3 pointA = Vec3::Zero(), pointB = Vec3::Zero();  // closest points on the cores
+  // Unit direction A to B of the last non-zero GJK estimate; zero if there was none. When
+  // the cores merely touch this is the contact normal, where EPA's answer is arbitrary.
+  Vec3 direction = Vec3::Zero();
 };
 
 // GJK distance between two cores (fixed iteration cap, deterministic).
 CoreDistance coreDistance(const Core& a, const Core& b);
+
+// Closest point of a core to the point x (distance 0 with overlap set when x is inside).
+CoreDistance pointDistance(const Core& a, const Vec3& x);
+
+// Ray cast against a convex shape in its own frame, rounding included (GJK ray cast).
+// Starting inside gives t = 0 and a zero normal. dir is unit length.
+bool convexRayCast(const Shape& s, const Vec3& origin, const Vec3& dir, double maxDistance,
+                   double& t, Vec3& normal);
 
 struct CorePenetration {
   bool ok = false;

@@ -6,43 +6,46 @@
 namespace grip::detail {
 namespace {
 
-// Box vertex i has coordinate signs from its bits (bit k set: +h_k).
-Vec3 boxVertex(const Vec3& h, int i) {
-  return Vec3((i & 1) ? h.x() : -h.x(), (i & 2) ? h.y() : -h.y(), (i & 4) ? h.z() : -h.z());
-}
-
 // Faces of a box as vertex loops, CCW seen from outside. Face 2k is +axis k, 2k+1 is -axis k.
-void boxFace(const Shape& s, const Transform& t, int axis, bool positive, Feature& out) {
+// Built from the face centre and two edge vectors: no per-corner rotation.
+void boxFace(const Shape& s, const Transform& t, const Mat3& R, int axis, bool positive,
+             Feature& out) {
+  const Vec3& h = s.halfExtents();
   const int u = (axis + 1) % 3, w = (axis + 2) % 3;
+  const double sign = positive ? 1.0 : -1.0;
+  out.normal = R.col(axis) * sign;
+  const Vec3 c = t.p + out.normal * h[axis];
+  const Vec3 eu = R.col(u) * h[u], ew = R.col(w) * h[w];
   // Corners in (u, w) sign order; CCW about +axis because e_u x e_w = e_axis.
   static constexpr int su[4] = {-1, 1, 1, -1}, sw[4] = {-1, -1, 1, 1};
   out.count = 0;
-  for (int c = 0; c < 4; ++c) {
-    const int k = positive ? c : 3 - c;
-    int bits = positive ? (1 << axis) : 0;
-    if (su[k] > 0) bits |= 1 << u;
-    if (sw[k] > 0) bits |= 1 << w;
-    out.add(t.apply(boxVertex(s.halfExtents(), bits)), static_cast<uint32_t>(bits));
+  for (int corner = 0; corner < 4; ++corner) {
+    const int k = positive ? corner : 3 - corner;
+    uint32_t bits = positive ? (1u << axis) : 0u;
+    if (su[k] > 0) bits |= 1u << u;
+    if (sw[k] > 0) bits |= 1u << w;
+    out.add(c + eu * su[k] + ew * sw[k], bits);
   }
-  out.normal = t.rotate(Vec3::Unit(axis) * (positive ? 1.0 : -1.0));
   out.face = static_cast<uint32_t>(2 * axis + (positive ? 0 : 1));
 }
 
 }  // namespace
 
 void supportingFeature(const Shape& s, const Transform& t, const Vec3& dir, Feature& out) {
-  const Vec3 d = t.rotateInverse(dir);
   out.count = 0;
   out.face = 0;
   switch (s.type()) {
     case ShapeType::Box: {
+      const Mat3 R = t.q.toRotationMatrix();
+      const Vec3 dl = R.transpose() * dir;
       int axis = 0;
       for (int k = 1; k < 3; ++k)
-        if (std::abs(d[k]) > std::abs(d[axis])) axis = k;
-      boxFace(s, t, axis, d[axis] >= 0.0, out);
+        if (std::abs(dl[k]) > std::abs(dl[axis])) axis = k;
+      boxFace(s, t, R, axis, dl[axis] >= 0.0, out);
       return;
     }
     case ShapeType::Capsule: {
+      const Vec3 d = t.rotateInverse(dir);
       // The whole segment when it lies (nearly) flat to the direction, else one end.
       const double c = d.y() / std::max(d.norm(), 1e-300);
       const Vec3 top = t.apply(Vec3(0.0, s.halfHeight(), 0.0));
@@ -58,23 +61,31 @@ void supportingFeature(const Shape& s, const Transform& t, const Vec3& dir, Feat
       return;
     }
     case ShapeType::ConvexHull: {
+      const Vec3 d = t.rotateInverse(dir);
       const ConvexHullData& h = s.hull();
-      int best = 0;
+      // The face must contain the extreme vertex (the deepest point): among the faces around
+      // that vertex take the one most aligned with d. The globally most aligned face can miss
+      // it on irregular hulls.
+      int sv = 0;
+      for (int i = 1; i < static_cast<int>(h.vertices.size()); ++i)
+        if (h.vertices[i].dot(d) > h.vertices[sv].dot(d)) sv = i;
+      int best = -1;
       double bestD = -std::numeric_limits<double>::infinity();
       for (int f = 0; f < static_cast<int>(h.faces.size()); ++f) {
         const double x = h.faces[f].normal.dot(d);
-        if (x > bestD) bestD = x, best = f;
+        if (x <= bestD) continue;
+        const auto& fv = h.faces[f].vertices;
+        if (std::find(fv.begin(), fv.end(), sv) != fv.end()) bestD = x, best = f;
       }
       const auto& face = h.faces[best];
-      if (static_cast<int>(face.vertices.size()) > Feature::kMax) {
-        // Too many corners for the clipper: fall back to the single support vertex.
-        int bv = 0;
-        for (int i = 1; i < static_cast<int>(h.vertices.size()); ++i)
-          if (h.vertices[i].dot(d) > h.vertices[bv].dot(d)) bv = i;
-        out.add(t.apply(h.vertices[bv]), static_cast<uint32_t>(bv));
-        return;
+      // A face with more corners than the clipper holds (a finely tessellated cylinder cap)
+      // is represented by evenly spaced corners: still convex, nearly the same area.
+      const int nv = static_cast<int>(face.vertices.size());
+      const int step = (nv + Feature::kMax - 1) / Feature::kMax;
+      for (int i = 0; i < nv; i += step) {
+        const int v = face.vertices[i];
+        out.add(t.apply(h.vertices[v]), static_cast<uint32_t>(v));
       }
-      for (int v : face.vertices) out.add(t.apply(h.vertices[v]), static_cast<uint32_t>(v));
       out.normal = t.rotate(face.normal);
       out.face = static_cast<uint32_t>(best);
       return;
@@ -114,22 +125,26 @@ void clipAgainst(const ClipList& in, const Vec3& o, const Vec3& sideN, int side,
     if ((in.v[0].p - o).dot(sideN) <= 0.0) out.add(in.v[0].p, in.v[0].id);
     return;
   }
-  const int edges = in.n == 2 ? 1 : in.n;
   if (in.n == 2) {
     const double d0 = (in.v[0].p - o).dot(sideN), d1 = (in.v[1].p - o).dot(sideN);
     if (d0 > 0.0 && d1 > 0.0) return;
-    const Vec3 x = in.v[0].p + (in.v[1].p - in.v[0].p) * (d0 / (d0 - d1));
+    // The crossing point is only formed when one end is outside (then d0 != d1).
+    const Vec3 x = (d0 > 0.0 || d1 > 0.0)
+                       ? Vec3(in.v[0].p + (in.v[1].p - in.v[0].p) * (d0 / (d0 - d1)))
+                       : in.v[0].p;
     out.add(d0 <= 0.0 ? in.v[0].p : x, d0 <= 0.0 ? in.v[0].id : crossingId(in.v[0].id, side));
     out.add(d1 <= 0.0 ? in.v[1].p : x, d1 <= 0.0 ? in.v[1].id : crossingId(in.v[0].id, side));
     return;
   }
-  for (int i = 0; i < edges; ++i) {
-    const ClipVertex& a = in.v[i];
-    const ClipVertex& b = in.v[(i + 1) % in.n];
-    const double da = (a.p - o).dot(sideN), db = (b.p - o).dot(sideN);
-    if (da <= 0.0) out.add(a.p, a.id);
+  std::array<double, kMaxClip> dist;
+  for (int i = 0; i < in.n; ++i) dist[i] = (in.v[i].p - o).dot(sideN);
+  for (int i = 0, next = 1; i < in.n; ++i, ++next) {
+    if (next == in.n) next = 0;
+    const double da = dist[i], db = dist[next];
+    if (da <= 0.0) out.add(in.v[i].p, in.v[i].id);
     if ((da < 0.0 && db > 0.0) || (da > 0.0 && db < 0.0))
-      out.add(a.p + (b.p - a.p) * (da / (da - db)), crossingId(a.id, side));
+      out.add(in.v[i].p + (in.v[next].p - in.v[i].p) * (da / (da - db)),
+              crossingId(in.v[i].id, side));
   }
 }
 

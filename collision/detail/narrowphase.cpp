@@ -15,10 +15,11 @@ namespace {
 using detail::Core;
 using detail::Feature;
 
-// Face axes win ties with edge axes (and A's faces with B's) unless clearly worse: this keeps
-// resting boxes on stable face manifolds instead of flickering to edge contacts.
-bool clearlyBetter(double candidate, double best) {
-  return candidate > best + 0.05 * std::abs(best) + 5e-4;
+// Face axes win ties with edge axes (and A's faces with B's) unless clearly better: this keeps
+// resting boxes on stable face manifolds instead of flickering to edge contacts. `slop` is an
+// absolute tolerance that scales down for small boxes.
+bool clearlyBetter(double candidate, double best, double slop) {
+  return candidate > best + 0.05 * std::abs(best) + slop;
 }
 
 void flip(Manifold& m) {
@@ -187,24 +188,33 @@ bool boxBox(const Shape& a, const Transform& ta, const Shape& b, const Transform
     if (s > margin) return false;
     if (s > sepB) sepB = s, axisB = j;
   }
+  // Edge axes a_i x b_j, written out (Gottschalk's OBB test): no matrix products per axis.
   Vec3 edgeAxis = Vec3::UnitX();
   for (int i = 0; i < 3; ++i) {
+    const int i1 = (i + 1) % 3, i2 = (i + 2) % 3;
     for (int j = 0; j < 3; ++j) {
-      Vec3 axis = Vec3::Unit(i).cross(C.col(j));
-      const double len = axis.norm();
-      if (len < 1e-6) continue;  // parallel edges: covered by the face axes
-      axis /= len;
-      const double rA = axis.cwiseAbs().dot(hA);
-      const double rB = (C.transpose() * axis).cwiseAbs().dot(hB);
-      const double s = std::abs(d.dot(axis)) - (rA + rB);
+      const int j1 = (j + 1) % 3, j2 = (j + 2) % 3;
+      const double len2 = C(i1, j) * C(i1, j) + C(i2, j) * C(i2, j);
+      if (len2 < 1e-12) continue;  // parallel edges: covered by the face axes
+      const double len = std::sqrt(len2);
+      const double rA = hA[i1] * absC(i2, j) + hA[i2] * absC(i1, j);
+      const double rB = hB[j1] * absC(i, j2) + hB[j2] * absC(i, j1);
+      const double dist = d[i2] * C(i1, j) - d[i1] * C(i2, j);
+      const double s = (std::abs(dist) - (rA + rB)) / len;
       if (s > margin) return false;
-      if (s > sepE) sepE = s, edgeI = i, edgeJ = j, edgeAxis = axis;
+      if (s > sepE) {
+        sepE = s, edgeI = i, edgeJ = j;
+        edgeAxis = Vec3::Zero();
+        edgeAxis[i1] = -C(i2, j) / len;
+        edgeAxis[i2] = C(i1, j) / len;
+      }
     }
   }
 
-  const bool useB = clearlyBetter(sepB, sepA);
+  const double slop = std::min(5e-4, 0.02 * std::min(hA.minCoeff(), hB.minCoeff()));
+  const bool useB = clearlyBetter(sepB, sepA, slop);
   const double faceSep = useB ? sepB : sepA;
-  if (!clearlyBetter(sepE, faceSep)) {
+  if (!clearlyBetter(sepE, faceSep, slop)) {
     Feature ref, inc;
     if (!useB) {
       const Vec3 n = RA.col(axisA) * (d[axisA] >= 0.0 ? 1.0 : -1.0);
@@ -255,10 +265,15 @@ bool planeConvex(const Shape& plane, const Transform& tp, const Shape& s, const 
   const double r = s.radius();
   m.normal = n;
   m.pointCount = 0;
-  // Candidate core points with their heights above the plane.
-  std::array<Vec3, 8> fixedPts;
+  // Core points (fixed storage up to a box's 8 corners; hulls use reused scratch).
+  std::array<Vec3, 8> fixedPts, fixedCand;
+  std::array<double, 8> fixedSeps;
+  std::array<uint32_t, 8> fixedIds;
+  Vec3* pts = fixedPts.data();
+  Vec3* cand = fixedCand.data();
+  double* seps = fixedSeps.data();
+  uint32_t* ids = fixedIds.data();
   int count = 0;
-  const Vec3* pts = fixedPts.data();
   switch (s.type()) {
     case ShapeType::Sphere:
       fixedPts[count++] = ts.p;
@@ -267,45 +282,61 @@ bool planeConvex(const Shape& plane, const Transform& tp, const Shape& s, const 
       capsuleEnds(s, ts, fixedPts[0], fixedPts[1]);
       count = 2;
       break;
-    case ShapeType::Box:
-      for (int i = 0; i < 8; ++i) {
-        const Vec3& h = s.halfExtents();
-        fixedPts[i] = ts.apply(
-            Vec3((i & 1) ? h.x() : -h.x(), (i & 2) ? h.y() : -h.y(), (i & 4) ? h.z() : -h.z()));
-      }
+    case ShapeType::Box: {
+      // Corner i = centre +- the three rotated half axes (bit k of i set: + along axis k).
+      const Mat3 R = ts.q.toRotationMatrix();
+      const Vec3& h = s.halfExtents();
+      const Vec3 ex = R.col(0) * h.x(), ey = R.col(1) * h.y(), ez = R.col(2) * h.z();
+      for (int i = 0; i < 8; ++i)
+        fixedPts[i] = ts.p + ((i & 1) ? ex : Vec3(-ex)) + ((i & 2) ? ey : Vec3(-ey)) +
+                      ((i & 4) ? ez : Vec3(-ez));
       count = 8;
       break;
+    }
     case ShapeType::ConvexHull: {
-      // Scratch reused across calls: no allocation once warm.
-      thread_local std::vector<Vec3> hullPts;
+      thread_local std::vector<Vec3> hullPts, hullCand;
+      thread_local std::vector<double> hullSeps;
+      thread_local std::vector<uint32_t> hullIds;
       const auto& v = s.hull().vertices;
-      hullPts.resize(v.size());
-      for (size_t i = 0; i < v.size(); ++i) hullPts[i] = ts.apply(v[i]);
-      pts = hullPts.data();
       count = static_cast<int>(v.size());
+      hullPts.resize(v.size()), hullCand.resize(v.size());
+      hullSeps.resize(v.size()), hullIds.resize(v.size());
+      for (int i = 0; i < count; ++i) hullPts[i] = ts.apply(v[i]);
+      pts = hullPts.data(), cand = hullCand.data(), seps = hullSeps.data(), ids = hullIds.data();
       break;
     }
     default:
       return false;
   }
-  thread_local std::vector<Vec3> cand;
-  thread_local std::vector<double> seps;
-  thread_local std::vector<uint32_t> ids;
-  cand.clear(), seps.clear(), ids.clear();
+  int found = 0;
   for (int i = 0; i < count; ++i) {
     const double h = n.dot(pts[i]) - offset;
     const double sep = h - r;
     if (sep >= margin) continue;
-    cand.push_back(pts[i] - n * (0.5 * (h + r)));  // midway: plane point and shape surface
-    seps.push_back(sep);
-    ids.push_back(static_cast<uint32_t>(i));
+    cand[found] = pts[i] - n * (0.5 * (h + r));  // midway: plane point and shape surface
+    seps[found] = sep;
+    ids[found] = static_cast<uint32_t>(i);
+    ++found;
   }
   std::array<int, 4> keep;
-  const int k =
-      detail::reducePoints(cand.data(), seps.data(), static_cast<int>(cand.size()), n, keep);
+  const int k = detail::reducePoints(cand, seps, found, n, keep);
   for (int i = 0; i < k; ++i) m.points[i] = {cand[keep[i]], seps[keep[i]], ids[keep[i]]};
   m.pointCount = k;
   return k > 0;
+}
+
+// Calls consider(k) for each outward face normal k of a box or hull, times `sign`.
+template <class F>
+void faceAxes(const Shape& s, const Transform& t, double sign, F&& consider) {
+  if (s.type() == ShapeType::Box) {
+    for (int k = 0; k < 3; ++k) {
+      const Vec3 axis = t.rotate(Vec3::Unit(k)) * sign;
+      consider(axis);
+      consider(-axis);
+    }
+  } else if (s.type() == ShapeType::ConvexHull) {
+    for (const auto& f : s.hull().faces) consider(t.rotate(f.normal) * sign);
+  }
 }
 
 // Any two convex shapes: GJK distance between the cores (or libccd penetration when they
@@ -325,16 +356,29 @@ bool convexGeneric(const Shape& a, const Transform& ta, const Shape& b, const Tr
     pos = 0.5 * ((dist.pointA + rA * n) + (dist.pointB - rB * n));
   } else {
     const detail::CorePenetration pen = detail::corePenetration(ca, cb);
-    if (pen.ok) {
-      n = pen.normal;
-      sep = -pen.depth - rA - rB;
-      pos = pen.point;
-    } else {  // libccd gave up (degenerate touching): push apart along the centres
+    // Keep the candidate axis along which the cores overlap least. libccd's answer is used
+    // when it is self-consistent; when the cores merely touch EPA returns an arbitrary
+    // direction, and the GJK direction or a face normal is the right axis.
+    double best = -std::numeric_limits<double>::infinity();
+    n = Vec3::UnitY();
+    auto consider = [&](const Vec3& k) {
+      const double s = k.dot(cb.support(-k) - ca.support(k));
+      if (s > best) best = s, n = k;
+    };
+    if (pen.ok) consider(pen.normal);
+    if (!pen.ok || std::abs(best + pen.depth) > 1e-6 + 1e-3 * pen.depth) {
+      if (dist.direction.squaredNorm() > 0.0) consider(dist.direction);
+      faceAxes(a, ta, 1.0, consider);
+      faceAxes(b, tb, -1.0, consider);
+    }
+    if (best == -std::numeric_limits<double>::infinity()) {  // nothing usable: centre line
       const Vec3 d = cb.center() - ca.center();
       n = d.squaredNorm() > 0.0 ? Vec3(d.normalized()) : Vec3(Vec3::UnitY());
-      sep = -rA - rB;
-      pos = 0.5 * (ca.center() + cb.center());
+      best = 0.0;
     }
+    sep = std::min(best, 0.0) - rA - rB;
+    pos = pen.ok ? pen.point : Vec3(0.5 * (ca.center() + cb.center()));
+    if (sep >= margin) return false;  // exactly touching with a zero margin
   }
   m.normal = n;
 
@@ -354,8 +398,13 @@ bool convexGeneric(const Shape& a, const Transform& ta, const Shape& b, const Tr
     if (faceSep >= sep - (1e-4 + 1e-3 * std::abs(sep))) {
       Manifold trial = m;
       trial.normal = refIsA ? faceN : Vec3(-faceN);
-      if (detail::clipFeatures(ref, inc, refIsA, refIsA ? rA : rB, refIsA ? rB : rA, margin,
-                               trial) > 0) {
+      const int count =
+          detail::clipFeatures(ref, inc, refIsA, refIsA ? rA : rB, refIsA ? rB : rA, margin, trial);
+      // Accept only if the clipped polygon keeps the deepest point (it always should; this
+      // guards against a degenerate incident face).
+      double deepest = std::numeric_limits<double>::infinity();
+      for (int i = 0; i < count; ++i) deepest = std::min(deepest, trial.points[i].separation);
+      if (count > 0 && deepest <= faceSep + 1e-6 + 1e-3 * std::abs(faceSep)) {
         m = trial;
         return true;
       }
@@ -422,7 +471,9 @@ int collide(const Shape& a, const Transform& ta, const Shape& b, const Transform
             std::vector<Manifold>& out) {
   if (a.type() == ShapeType::Compound) {
     // Each overlapping child of A against all of B (B may be a compound too).
-    std::vector<uint32_t> kids;
+    // Scratch reused across calls (no allocation once warm); never re-entered, as children
+    // are not compounds.
+    thread_local std::vector<uint32_t> kids;
     overlappingChildren(a, b.bounds(ta.inverse() * tb).inflated(margin), kids);
     int total = 0;
     for (uint32_t i : kids) {

@@ -135,6 +135,7 @@ struct ShapeBuilder {
         s->planeOffset_ += margin;
         break;
       case ShapeType::Compound:
+        // Children grow; an SDF (if any) still describes the uninflated surface.
         for (auto& c : s->children_) c.shape = c.shape->inflated(margin);
         buildCompound(*s);
         return s;

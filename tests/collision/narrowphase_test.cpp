@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <random>
 
 #include "collision/narrowphase.hpp"
 #include "test_util.hpp"
@@ -405,4 +406,169 @@ TEST(Collide, PlanePairsAndDeterminism) {
     EXPECT_EQ(m1.points[i].position, m2.points[i].position);
     EXPECT_EQ(m1.points[i].featureId, m2.points[i].featureId);
   }
+}
+
+TEST(Generic, ExactlyTouchingHullsGiveTheFaceNormal) {
+  // Touching cores are where EPA's direction is arbitrary: the face axis must win.
+  auto hull = Shape::convexHull(boxCorners(Vec3(0.5, 0.5, 0.5)));
+  for (double gap : {0.0, 1e-13, -1e-10}) {
+    for (double angle : {0.0, 0.3, kPi / 4}) {
+      const Manifold m =
+          collideOne(hull, at(Vec3::Zero()), hull,
+                     at(Vec3(0.1, 1.0 + gap, 0.05), rot(angle, Vec3::UnitY())), 0.01);
+      ASSERT_EQ(m.pointCount, 4) << gap << " " << angle;
+      expectNormal(m, Vec3::UnitY(), 1e-9);
+      for (int i = 0; i < 4; ++i) EXPECT_NEAR(m.points[i].separation, gap, 1e-12);
+    }
+  }
+  auto cap = Shape::capsule(0.1, 0.3);
+  const Manifold m = collideOne(hull, at(Vec3::Zero()), cap,
+                                at(Vec3(0.1, 0.6, 0), rot(kPi / 2, Vec3::UnitZ())), 0.01);
+  ASSERT_EQ(m.pointCount, 2);
+  expectNormal(m, Vec3::UnitY(), 1e-9);
+}
+
+TEST(Generic, RandomBoxPairsAgreeWithSat) {
+  // Boxes through SAT and the same boxes as hulls through GJK/libccd: the deepest point and
+  // the existence of contact agree for shallow overlaps (deep ones may pick other axes, and
+  // SAT prefers faces within a small bias).
+  auto box = Shape::box(Vec3(0.5, 0.3, 0.4));
+  auto hull = Shape::convexHull(boxCorners(Vec3(0.5, 0.3, 0.4)));
+  std::mt19937 rng(11);
+  auto u = [&] { return static_cast<double>(rng()) / 4294967295.0 * 2.0 - 1.0; };
+  int compared = 0;
+  for (int k = 0; k < 4000; ++k) {
+    Quat qa(u(), u(), u(), u()), qb(u(), u(), u(), u());
+    qa.normalize(), qb.normalize();
+    const Transform ta{Vec3(u(), u(), u()) * 0.1, qa}, tb{Vec3(u(), u(), u()) * 0.8, qb};
+    Manifold m1, m2;
+    const bool h1 = collideConvex(*box, ta, *box, tb, 0.0, m1);
+    const bool h2 = collideConvex(*hull, ta, *hull, tb, 0.0, m2);
+    ASSERT_EQ(h1, h2) << k;
+    if (!h1) continue;
+    double s1 = 0.0, s2 = 0.0;
+    for (int i = 0; i < m1.pointCount; ++i) s1 = std::min(s1, m1.points[i].separation);
+    for (int i = 0; i < m2.pointCount; ++i) s2 = std::min(s2, m2.points[i].separation);
+    if (s1 < -0.05) continue;
+    ++compared;
+    EXPECT_NEAR(s1, s2, 1e-3 + 0.06 * std::abs(s1)) << k;
+    // EPA finds the true minimum; SAT may report a face axis up to its bias deeper.
+    EXPECT_GE(s2, s1 - 1e-6) << k;
+  }
+  EXPECT_GT(compared, 200);
+}
+
+TEST(Generic, CylinderHullRestingOnItsCapGetsFourPoints) {
+  // 64-sided caps exceed the clipper's polygon size: the face is subsampled, not dropped.
+  std::vector<Vec3> pts;
+  for (int i = 0; i < 64; ++i) {
+    const double a = 2 * kPi * i / 64;
+    pts.emplace_back(0.3 * std::cos(a), -0.2, 0.3 * std::sin(a));
+    pts.emplace_back(0.3 * std::cos(a), 0.2, 0.3 * std::sin(a));
+  }
+  auto cyl = Shape::convexHull(pts);
+  auto ground = Shape::plane(Vec3::UnitY(), 0.0);
+  Manifold m = collideOne(ground, at(Vec3::Zero()), cyl, at(Vec3(0, 0.19, 0)), 0.0);
+  EXPECT_EQ(m.pointCount, 4);
+  m = collideOne(kUnitBox, at(Vec3::Zero()), cyl, at(Vec3(0, 0.69, 0)), 0.0);
+  ASSERT_EQ(m.pointCount, 4);
+  expectNormal(m, Vec3::UnitY(), 1e-9);
+  for (int i = 0; i < 4; ++i) EXPECT_NEAR(m.points[i].separation, -0.01, 1e-9);
+  EXPECT_GT(quadArea(m, m.normal), 0.15);  // the inscribed square of r = 0.3 has area 0.18
+}
+
+TEST(BoxBox, BoxOnItsEdgeGivesTwoPoints) {
+  const double e = 0.5 * std::sqrt(2.0);
+  Manifold m = collideOne(kUnitBox, at(Vec3::Zero()), kUnitBox,
+                          at(Vec3(0.1, 0.5 + e - 0.01, 0.2), rot(kPi / 4, Vec3::UnitZ())), 0.02);
+  ASSERT_EQ(m.pointCount, 2);
+  expectNormal(m, Vec3::UnitY(), 1e-12);
+  for (int i = 0; i < 2; ++i) {
+    EXPECT_NEAR(m.points[i].separation, -0.01, 1e-12);
+    EXPECT_NEAR(m.points[i].position.x(), 0.1, 1e-12);  // along the edge, under it
+  }
+  // B's edge spans z in [-0.3, 0.7]; A's top face clips it at z = 0.5.
+  EXPECT_NEAR(std::min(m.points[0].position.z(), m.points[1].position.z()), -0.3, 1e-12);
+  EXPECT_NEAR(std::max(m.points[0].position.z(), m.points[1].position.z()), 0.5, 1e-12);
+}
+
+TEST(BoxBox, SmallTiltedDiceStayOnTheirFaces) {
+  // 1 cm dice: the face-axis bias must shrink with the size.
+  auto die = Shape::box(Vec3(0.005, 0.005, 0.005));
+  Manifold m = collideOne(die, at(Vec3::Zero()), die,
+                          at(Vec3(0.001, 0.00995, 0.0), rot(0.02, Vec3::UnitX())), 0.001);
+  ASSERT_EQ(m.pointCount, 4);
+  expectNormal(m, Vec3::UnitY(), 1e-12);
+  // A die standing on an edge of another (crossed edges) is an edge-edge contact.
+  const double e = 0.005 * std::sqrt(2.0);
+  m = collideOne(die, at(Vec3::Zero(), rot(kPi / 4, Vec3::UnitZ())), die,
+                 at(Vec3(0, 2 * e - 1e-4, 0), rot(kPi / 4, Vec3::UnitX())), 0.001);
+  ASSERT_EQ(m.pointCount, 1);
+  EXPECT_NEAR(m.points[0].separation, -1e-4, 1e-12);
+}
+
+namespace {
+
+// Exact penetration of two hulls by brute force: the separating-axis maximum over face
+// normals and edge-edge cross products.
+double bruteForceSat(const Shape& a, const Transform& ta, const Shape& b, const Transform& tb) {
+  auto support = [](const Shape& s, const Transform& t, const Vec3& d) {
+    double m = -std::numeric_limits<double>::infinity();
+    for (const Vec3& v : s.hull().vertices) m = std::max(m, t.apply(v).dot(d));
+    return m;
+  };
+  double best = -std::numeric_limits<double>::infinity();
+  auto test = [&](Vec3 k) {
+    if (k.norm() < 1e-9) return;
+    k.normalize();
+    best = std::max(best, -support(b, tb, -k) - support(a, ta, k));
+    best = std::max(best, -support(b, tb, k) - support(a, ta, -k));
+  };
+  for (const auto& f : a.hull().faces) test(ta.rotate(f.normal));
+  for (const auto& f : b.hull().faces) test(tb.rotate(f.normal));
+  for (const auto& ea : a.hull().edges)
+    for (const auto& eb : b.hull().edges)
+      test(ta.rotate(a.hull().vertices[ea[1]] - a.hull().vertices[ea[0]])
+               .cross(tb.rotate(b.hull().vertices[eb[1]] - b.hull().vertices[eb[0]])));
+  return best;
+}
+
+}  // namespace
+
+TEST(Generic, RandomHullPenetrationMatchesBruteForceSat) {
+  std::mt19937 rng(3);
+  auto u = [&] { return static_cast<double>(rng()) / 4294967295.0 * 2.0 - 1.0; };
+  int compared = 0;
+  for (int k = 0; k < 600; ++k) {
+    std::vector<Vec3> pa, pb;
+    for (int i = 0; i < 12; ++i) {
+      pa.emplace_back(Vec3(u(), u(), u()) * 0.4);
+      pb.emplace_back(Vec3(u(), u(), u()) * 0.4);
+    }
+    auto a = Shape::convexHull(pa), b = Shape::convexHull(pb);
+    Quat qa(u(), u(), u(), u()), qb(u(), u(), u(), u());
+    qa.normalize(), qb.normalize();
+    const Transform ta{Vec3::Zero(), qa}, tb{Vec3(u(), u(), u()) * 0.9, qb};
+    const double exact = bruteForceSat(*a, ta, *b, tb);
+    Manifold m;
+    if (exact > 0.0) {
+      // Separated: SAT only bounds the distance from below. The reported normal must be an
+      // axis along which the gap equals the reported (GJK) separation.
+      if (!collideConvex(*a, ta, *b, tb, 0.05, m)) continue;
+      double gap = std::numeric_limits<double>::infinity();
+      for (int i = 0; i < m.pointCount; ++i) gap = std::min(gap, m.points[i].separation);
+      double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+      for (const Vec3& v : b->hull().vertices) lo = std::min(lo, tb.apply(v).dot(m.normal));
+      for (const Vec3& v : a->hull().vertices) hi = std::max(hi, ta.apply(v).dot(m.normal));
+      EXPECT_NEAR(gap, lo - hi, 1e-9) << k;
+      EXPECT_GE(gap, exact - 1e-9) << k;
+      continue;
+    }
+    ASSERT_TRUE(collideConvex(*a, ta, *b, tb, 0.05, m)) << k;
+    double deepest = 0.0;
+    for (int i = 0; i < m.pointCount; ++i) deepest = std::min(deepest, m.points[i].separation);
+    EXPECT_NEAR(deepest, exact, 1e-6 + 1e-3 * std::abs(exact)) << k;
+    ++compared;
+  }
+  EXPECT_GT(compared, 100);
 }

@@ -1,0 +1,65 @@
+// World step cost: resting stacks, resting piles, and a pile being dropped.
+#include <benchmark/benchmark.h>
+
+#include <chrono>
+
+#include "dynamics/scenes.hpp"
+
+using namespace grip;
+
+namespace {
+
+// Builds a pile and lets it settle first, so each timed step is a resting pile.
+void BM_World_RestingPile(benchmark::State& state) {
+  WorldDef def;
+  def.enableSleep = false;  // measure the solver at rest, not sleeping
+  World w(def);
+  scenes::addGround(w);
+  scenes::addBoxPile(w, static_cast<int>(state.range(0)));
+  for (int i = 0; i < 240; ++i) w.step(1.0 / 60.0);
+  for (auto _ : state) w.step(1.0 / 60.0);
+  state.counters["contacts"] = w.stats().contactPoints;
+}
+BENCHMARK(BM_World_RestingPile)->Arg(100)->Arg(1000)->Unit(benchmark::kMillisecond);
+
+// The same pile asleep: what a settled scene costs with sleeping on (the default).
+void BM_World_SleepingPile(benchmark::State& state) {
+  World w;
+  scenes::addGround(w);
+  scenes::addBoxPile(w, static_cast<int>(state.range(0)));
+  for (int i = 0; i < 600; ++i) w.step(1.0 / 60.0);
+  for (auto _ : state) w.step(1.0 / 60.0);
+  state.counters["awake"] = w.stats().awakeBodies;
+}
+BENCHMARK(BM_World_SleepingPile)->Arg(1000)->Unit(benchmark::kMicrosecond);
+
+void BM_World_Stack(benchmark::State& state) {
+  WorldDef def;
+  def.enableSleep = false;
+  World w(def);
+  scenes::addGround(w);
+  scenes::addBoxStack(w, static_cast<int>(state.range(0)));
+  for (int i = 0; i < 60; ++i) w.step(1.0 / 60.0);
+  for (auto _ : state) w.step(1.0 / 60.0);
+}
+BENCHMARK(BM_World_Stack)->Arg(10)->Arg(20)->Unit(benchmark::kMicrosecond);
+
+// Dropping a pile: 3 s from release (falling, impacts, settling); ms_per_step is the mean.
+void BM_World_PileDrop(benchmark::State& state) {
+  const int steps = 180;
+  double stepMs = 0;
+  int runs = 0;
+  for (auto _ : state) {
+    World w;
+    scenes::addGround(w);
+    scenes::addBoxPile(w, static_cast<int>(state.range(0)));
+    const auto t0 = std::chrono::steady_clock::now();
+    for (int i = 0; i < steps; ++i) w.step(1.0 / 60.0);
+    stepMs += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    ++runs;
+  }
+  state.counters["ms_per_step"] = stepMs / (runs * steps);
+}
+BENCHMARK(BM_World_PileDrop)->Arg(1000)->Unit(benchmark::kMillisecond)->Iterations(3);
+
+}  // namespace

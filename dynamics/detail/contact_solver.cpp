@@ -1,0 +1,445 @@
+// The solve stage: a soft-step contact solver in the style of Box2D v3 (Catto, "Solver2D"),
+// in 3D. Per substep: integrate velocities, warm start, solve with bias, integrate positions,
+// relax (solve without bias; the last relax pass propagates support from the ground up).
+// Then one restitution pass, a position projection, and the impulses are stored for the
+// next step's warm start. docs/dynamics.md explains the choices and the measurements.
+#include <algorithm>
+
+#include "dynamics/detail/world_impl.hpp"
+
+namespace grip {
+
+using detail::Body;
+using detail::ContactManifold;
+using detail::SolverBody;
+using detail::SolverManifold;
+using detail::SolverPoint;
+using detail::SolverRow;
+
+namespace {
+
+// Soft constraint coefficients: a spring of `hertz` with damping ratio `zeta`, discretised
+// implicitly for substep h (Box2D v3's b2MakeSoft).
+struct Softness {
+  double biasRate = 0.0, massScale = 1.0, impulseScale = 0.0;
+};
+Softness makeSoft(double hertz, double zeta, double h) {
+  const double omega = 2.0 * kPi * hertz;
+  const double a1 = 2.0 * zeta + h * omega;
+  const double a2 = h * omega * a1;
+  const double a3 = 1.0 / (1.0 + a2);
+  return {omega / a1, a2 * a3, a3};
+}
+
+struct SolveContext {
+  double invH = 0.0, slop = 0.0, pushout = 0.0;
+  int manifoldSweeps = 4;
+  double breakVelocity = 0.0;
+  Softness soft, staticSoft;
+};
+
+// Which bodies a solve may move. Shock propagation freezes the body nearer the ground.
+enum class Moves { Both, OnlyA, OnlyB };
+
+inline double rowVelocity(const SolverBody& a, const SolverBody& b, const SolverRow& r) {
+  return r.lin.dot(b.v - a.v) + r.angB.dot(b.w) - r.angA.dot(a.w);
+}
+
+inline void applyRow(SolverBody& a, SolverBody& b, const SolverRow& r, double impulse,
+                     Moves moves = Moves::Both) {
+  if (moves != Moves::OnlyB) {
+    a.v -= (a.invMass * impulse) * r.lin;
+    a.w -= impulse * r.dwA;
+  }
+  if (moves != Moves::OnlyA) {
+    b.v += (b.invMass * impulse) * r.lin;
+    b.w += impulse * r.dwB;
+  }
+}
+
+inline double inverseMass(const SolverBody& a, const SolverBody& b, const SolverRow& r,
+                          Moves moves) {
+  const double lin2 = r.lin.squaredNorm();
+  double k = 0.0;
+  if (moves != Moves::OnlyB) k += a.invMass * lin2 + r.angA.dot(r.dwA);
+  if (moves != Moves::OnlyA) k += b.invMass * lin2 + r.angB.dot(r.dwB);
+  return k;
+}
+
+// Effective mass of a row when only some bodies move.
+inline double rowMass(const SolverBody& a, const SolverBody& b, const SolverRow& r, Moves moves) {
+  if (moves == Moves::Both) return r.mass;
+  const double k = inverseMass(a, b, r, moves);
+  return k > 0.0 ? 1.0 / k : 0.0;
+}
+
+SolverRow makeRow(const SolverBody& a, const SolverBody& b, const Vec3& lin, const Vec3& angA,
+                  const Vec3& angB) {
+  SolverRow r;
+  r.lin = lin, r.angA = angA, r.angB = angB;
+  r.dwA = a.invI * angA, r.dwB = b.invI * angB;
+  const double k = inverseMass(a, b, r, Moves::Both);
+  r.mass = k > 0.0 ? 1.0 / k : 0.0;
+  return r;
+}
+
+// Coulomb friction for the patch: the tangential impulse is capped by a circular cone of
+// mu times the patch's total normal impulse, the twist by the same times the patch radius.
+// Static friction (mu_s) holds until the cap is reached in a relax pass (when the normal
+// impulses were solved this substep); from then on the patch slides with mu_d.
+void solveFriction(SolverManifold& m, SolverBody& A, SolverBody& B, Moves moves, bool mayBreak,
+                   double breakVelocity) {
+  double normal = 0.0;
+  for (int k = 0; k < m.count; ++k) normal += m.p[k].normal.impulse;
+  const double mu = m.sliding ? m.dynamicFriction : m.staticFriction;
+  SolverRow &t1 = m.friction[0], &t2 = m.friction[1], &twist = m.friction[2];
+  const double old1 = t1.impulse, old2 = t2.impulse;
+  double n1 = old1 - rowMass(A, B, t1, moves) * rowVelocity(A, B, t1);
+  double n2 = old2 - rowMass(A, B, t2, moves) * rowVelocity(A, B, t2);
+  const double limit = mu * normal;
+  const double len2 = n1 * n1 + n2 * n2;
+  const bool capped = len2 > limit * limit;
+  if (capped) {
+    const double s = limit > 0.0 ? limit / std::sqrt(len2) : 0.0;
+    n1 *= s, n2 *= s;
+  }
+  t1.impulse = n1, t2.impulse = n2;
+  applyRow(A, B, t1, n1 - old1, moves);
+  applyRow(A, B, t2, n2 - old2, moves);
+  // Breaking loose means the cone cannot stop the patch: still moving after the capped
+  // impulse. Capped while arresting a small residual motion is still sticking.
+  if (capped && mayBreak && !m.sliding) {
+    const double v1 = rowVelocity(A, B, t1), v2 = rowVelocity(A, B, t2);
+    m.sliding = v1 * v1 + v2 * v2 > breakVelocity * breakVelocity;
+  }
+  if (m.count > 1) {
+    const double oldT = twist.impulse, maxT = mu * normal * m.twistRadius;
+    const double nt = std::clamp(oldT - rowMass(A, B, twist, moves) * rowVelocity(A, B, twist),
+                                 -maxT, maxT);
+    twist.impulse = nt;
+    applyRow(A, B, twist, nt - oldT, moves);
+  }
+}
+
+// Non-penetration. The points of one manifold push on the same two bodies, so they are
+// solved together: a few Gauss-Seidel sweeps over the manifold's own small system K, then
+// one impulse per point is applied. Solving them one at a time against the bodies leaves
+// the first point with most of the load and tips the body.
+void solveNormal(SolverManifold& m, SolverBody& A, SolverBody& B, const SolveContext& ctx,
+                 bool useBias, Moves moves) {
+  const Softness& soft = (m.a == 0 || m.b == 0) ? ctx.staticSoft : ctx.soft;
+  const Vec3 dp = B.dp - A.dp;
+  double vn[4], bias[4], massScale[4], impulseScale[4], mass[4], delta[4] = {0, 0, 0, 0};
+  double oneSided[4][4];
+  const double(*K)[4] = moves == Moves::Both ? m.K : oneSided;
+  for (int k = 0; k < m.count; ++k) {
+    const SolverRow& r = m.p[k].normal;
+    // Current separation, linearised in the bodies' motion since the step began.
+    const double s =
+        m.p[k].separation + r.lin.dot(dp) + r.angB.dot(B.dtheta) - r.angA.dot(A.dtheta);
+    bias[k] = 0.0, massScale[k] = 1.0, impulseScale[k] = 0.0;
+    if (s > 0.0) {
+      bias[k] = s * ctx.invH;  // speculative: may close the gap, no more
+    } else if (useBias && s < -ctx.slop) {
+      // Overlap beyond the slop: pushed out softly. Within the slop the contact is rigid.
+      bias[k] = std::max(soft.biasRate * (s + ctx.slop), -ctx.pushout);
+      massScale[k] = soft.massScale;
+      impulseScale[k] = soft.impulseScale;
+    }
+    vn[k] = rowVelocity(A, B, r);
+    mass[k] = rowMass(A, B, r, moves);
+    if (moves == Moves::Both) continue;
+    for (int j = 0; j < m.count; ++j) {
+      const SolverRow& q = m.p[j].normal;
+      oneSided[k][j] = moves == Moves::OnlyA ? A.invMass + q.angA.dot(r.dwA)
+                                             : B.invMass + q.angB.dot(r.dwB);
+    }
+  }
+  const int sweeps = m.count > 1 ? ctx.manifoldSweeps : 1;
+  for (int it = 0; it < sweeps; ++it) {
+    for (int k = 0; k < m.count; ++k) {
+      double v = vn[k];
+      for (int j = 0; j < m.count; ++j) v += K[k][j] * delta[j];
+      const double total = m.p[k].normal.impulse + delta[k];
+      const double impulse = -mass[k] * massScale[k] * (v + bias[k]) - impulseScale[k] * total;
+      delta[k] = std::max(total + impulse, 0.0) - m.p[k].normal.impulse;
+    }
+  }
+  for (int k = 0; k < m.count; ++k) {
+    SolverPoint& p = m.p[k];
+    p.normal.impulse += delta[k];
+    p.maxNormalImpulse = std::max(p.maxNormalImpulse, delta[k]);
+    applyRow(A, B, p.normal, delta[k], moves);
+  }
+}
+
+// Friction first, against the current normal impulse; non-penetration last, so it has the
+// final word (as Jolt orders them; measured: normal-first lets tall stacks drift). A new
+// contact (no warm start) solves its normal first, so its friction is not judged against a
+// zero normal impulse; static friction may break only in a relax pass of a warm contact.
+inline void solveManifold(SolverManifold& m, std::vector<SolverBody>& bodies,
+                          const SolveContext& ctx, bool useBias, Moves moves = Moves::Both) {
+  SolverBody& A = bodies[m.a];
+  SolverBody& B = bodies[m.b];
+  const bool mayBreak = !useBias && m.warm;
+  if (!m.warm) solveNormal(m, A, B, ctx, useBias, moves);
+  solveFriction(m, A, B, moves, mayBreak, ctx.breakVelocity);
+  if (m.warm) solveNormal(m, A, B, ctx, useBias, moves);
+}
+
+double combineFriction(double a, double b) { return std::sqrt(a * b); }
+
+}  // namespace
+
+void World::Impl::solve(double dt) {
+  const int substeps = def.substeps;
+  const double h = dt / substeps;
+
+  // Solver bodies: index 0 is the immovable world; then every awake non-static body.
+  solverBodies.clear();
+  solverBodies.emplace_back();
+  awakeBodies.clear();
+  for (uint32_t i = 0; i < bodies.size(); ++i) {
+    Body& b = bodies[i];
+    b.solverIndex = 0;
+    if (!b.alive || !b.awake || b.type == BodyType::Static) continue;
+    b.solverIndex = static_cast<int>(solverBodies.size());
+    SolverBody s;
+    s.v = b.v, s.w = b.w;
+    s.invMass = b.invMass;
+    s.invI = b.isDynamic() ? b.invInertiaWorld() : Mat3::Zero();
+    solverBodies.push_back(s);
+    awakeBodies.push_back(i);
+  }
+
+  prepareContacts();
+  computeLevels();
+
+  SolveContext ctx;
+  ctx.invH = 1.0 / h, ctx.slop = def.linearSlop, ctx.pushout = def.maxPushoutVelocity;
+  ctx.breakVelocity = 0.1 * def.stickVelocity;
+  const double hertz = std::min(def.contactHertz, 0.25 / h);
+  ctx.soft = makeSoft(hertz, def.contactDampingRatio, h);
+  ctx.staticSoft = makeSoft(2.0 * hertz, def.contactDampingRatio, h);
+
+  for (int sub = 0; sub < substeps; ++sub) {
+    integrateVelocities(h);
+    for (SolverManifold& m : solverManifolds) {  // warm start
+      SolverBody &A = solverBodies[m.a], &B = solverBodies[m.b];
+      for (int k = 0; k < m.count; ++k) applyRow(A, B, m.p[k].normal, m.p[k].normal.impulse);
+      for (const SolverRow& r : m.friction) applyRow(A, B, r, r.impulse);
+    }
+    for (SolverManifold& m : solverManifolds) solveManifold(m, solverBodies, ctx, true);
+    integratePositions(h);
+    for (int r = 0; r < def.relaxIterations; ++r) {
+      if (r + 1 == def.relaxIterations) {
+        // Shock propagation (Guendelman et al. 2003): the last relax pass runs from the
+        // ground up and lets each contact move only the body farther from the ground, so
+        // a stack's support reaches its top within one pass instead of diffusing slowly.
+        for (int i : shockOrder) {
+          SolverManifold& m = solverManifolds[i];
+          const int la = levels[m.a], lb = levels[m.b];
+          const Moves moves = la < lb ? Moves::OnlyB : lb < la ? Moves::OnlyA : Moves::Both;
+          solveManifold(m, solverBodies, ctx, false, moves);
+        }
+      } else {
+        for (auto& m : solverManifolds) solveManifold(m, solverBodies, ctx, false);
+      }
+    }
+  }
+
+  applyRestitution();
+  projectPositions();
+  storeImpulses();
+  for (size_t k = 0; k < awakeBodies.size(); ++k) {  // write the bodies back
+    Body& b = bodies[awakeBodies[k]];
+    const SolverBody& s = solverBodies[k + 1];
+    b.v = s.v, b.w = s.w;
+    b.com += s.dp;
+    b.pose.q = (s.dq * b.pose.q).normalized();
+    b.pose.p = b.com - b.pose.q * b.localCom;
+    refreshBounds(b);
+  }
+}
+
+void World::Impl::prepareContacts() {
+  solverManifolds.clear();
+  int points = 0;
+  for (size_t ci = 0; ci < contacts.size(); ++ci) {
+    const ContactManifold& c = contacts[ci];
+    const Body &A = bodies[c.bodyA], &B = bodies[c.bodyB];
+    if (A.solverIndex == 0 && B.solverIndex == 0) continue;
+    if (!A.isDynamic() && !B.isDynamic()) continue;
+    SolverManifold& m = solverManifolds.emplace_back();
+    m.a = A.solverIndex, m.b = B.solverIndex, m.source = static_cast<int>(ci);
+    const Vec3 n = c.m.normal;
+    m.normal = n;
+    m.staticFriction = combineFriction(A.material.staticFriction, B.material.staticFriction);
+    m.dynamicFriction = combineFriction(A.material.dynamicFriction, B.material.dynamicFriction);
+    m.restitution = std::max(A.material.restitution, B.material.restitution);
+    m.count = c.m.pointCount;
+    const SolverBody &sa = solverBodies[m.a], &sb = solverBodies[m.b];
+    Vec3 centre = Vec3::Zero();
+    for (int k = 0; k < m.count; ++k) {
+      const ContactPoint& cp = c.m.points[k];
+      SolverPoint& p = m.p[k];
+      const Vec3 rA = cp.position - A.com, rB = cp.position - B.com;
+      p.normal = makeRow(sa, sb, n, rA.cross(n), rB.cross(n));
+      p.normal.impulse = c.state[k].normalImpulse;
+      m.warm |= p.normal.impulse > 0.0;
+      p.separation = cp.separation;
+      p.relativeVelocity = ((B.v + B.w.cross(rB)) - (A.v + A.w.cross(rA))).dot(n);
+      centre += cp.position;
+    }
+    centre /= m.count;
+    for (int k = 0; k < m.count; ++k) m.twistRadius += (c.m.points[k].position - centre).norm();
+    m.twistRadius /= m.count;
+    // Patch friction at the centre of the points.
+    Vec3 t1, t2;
+    tangentBasis(n, t1, t2);
+    const Vec3 rA = centre - A.com, rB = centre - B.com;
+    m.friction[0] = makeRow(sa, sb, t1, rA.cross(t1), rB.cross(t1));
+    m.friction[1] = makeRow(sa, sb, t2, rA.cross(t2), rB.cross(t2));
+    m.friction[2] = makeRow(sa, sb, Vec3::Zero(), n, n);
+    for (int r = 0; r < 3; ++r) m.friction[r].impulse = c.friction[r];
+    // Static friction while the patch rests, kinetic once it moves along the surface.
+    const Vec3 dv = (B.v + B.w.cross(rB)) - (A.v + A.w.cross(rA));
+    m.sliding = (dv - dv.dot(n) * n).norm() > def.stickVelocity;
+    for (int i = 0; i < m.count; ++i)
+      for (int j = 0; j < m.count; ++j)
+        m.K[i][j] = sa.invMass + sb.invMass + m.p[j].normal.angA.dot(m.p[i].normal.dwA) +
+                    m.p[j].normal.angB.dot(m.p[i].normal.dwB);
+    points += m.count;
+  }
+  constraintCount = points;
+  stats.manifolds = static_cast<int>(solverManifolds.size());
+  stats.contactPoints = points;
+  stats.awakeBodies = static_cast<int>(awakeBodies.size());
+}
+
+void World::Impl::integrateVelocities(double h) {
+  for (size_t k = 0; k < awakeBodies.size(); ++k) {
+    const Body& b = bodies[awakeBodies[k]];
+    SolverBody& s = solverBodies[k + 1];
+    if (!b.isDynamic()) continue;
+    s.v += h * (b.invMass * b.force + b.gravityScale * def.gravity + b.linearAccel);
+    const Mat3 R = (s.dq * b.pose.q).toRotationMatrix();
+    s.w += h * (R * (b.invInertiaLocal * (R.transpose() * b.torque)) + b.angularAccel);
+    s.v *= 1.0 / (1.0 + h * b.linearDamping);
+    s.w *= 1.0 / (1.0 + h * b.angularDamping);
+    const double speed = s.v.norm();
+    if (speed > def.maxLinearSpeed) s.v *= def.maxLinearSpeed / speed;
+  }
+}
+
+// Positions and orientations advance with the substep's velocities. The gyroscopic effect
+// comes from keeping the world angular momentum L = I(q) w through each rotation:
+// w <- I(q1)^-1 I(q0) w. Free rotation then keeps L exactly, and |w| <= |L| / I_min can
+// never blow up, at any spin rate (unlike the explicit w x Iw torque).
+void World::Impl::integratePositions(double h) {
+  for (size_t k = 0; k < awakeBodies.size(); ++k) {
+    const Body& b = bodies[awakeBodies[k]];
+    SolverBody& s = solverBodies[k + 1];
+    s.dp += h * s.v;
+    s.dtheta += h * s.w;
+    const Quat q0 = s.dq * b.pose.q;
+    s.dq = integrateRotation(s.dq, s.w, h);
+    if (!b.isDynamic() || s.w.isZero()) continue;
+    const Mat3 R0 = q0.toRotationMatrix(), R1 = (s.dq * b.pose.q).toRotationMatrix();
+    const Vec3 L = R0 * (b.inertiaLocal * (R0.transpose() * s.w));
+    s.w = R1 * (b.invInertiaLocal * (R1.transpose() * L));
+  }
+}
+
+// One pass on points that closed faster than the threshold and actually pushed.
+void World::Impl::applyRestitution() {
+  for (SolverManifold& m : solverManifolds) {
+    if (m.restitution == 0.0) continue;
+    SolverBody &A = solverBodies[m.a], &B = solverBodies[m.b];
+    for (int k = 0; k < m.count; ++k) {
+      SolverPoint& p = m.p[k];
+      if (p.relativeVelocity > -def.restitutionThreshold || p.maxNormalImpulse == 0.0) continue;
+      const double vn = rowVelocity(A, B, p.normal);
+      const double total = std::max(
+          p.normal.impulse - p.normal.mass * (vn + m.restitution * p.relativeVelocity), 0.0);
+      applyRow(A, B, p.normal, total - p.normal.impulse);
+      p.normal.impulse = total;
+    }
+  }
+}
+
+// Position projection (non-linear Gauss-Seidel, as Box2D v2.4 and Jolt do): after the
+// velocities are final, overlap beyond a small slop is removed by moving the bodies directly,
+// a fraction per pass. It adds no velocity, so it cannot add energy, and it keeps stacks from
+// sinking or leaning where a rigid velocity constraint alone would let them drift.
+void World::Impl::projectPositions() {
+  for (int it = 0; it < def.positionIterations; ++it) {
+    for (int i : shockOrder) {
+      SolverManifold& m = solverManifolds[i];
+      SolverBody &A = solverBodies[m.a], &B = solverBodies[m.b];
+      for (int k = 0; k < m.count; ++k) {
+        const SolverRow& r = m.p[k].normal;
+        const double s = m.p[k].separation + r.lin.dot(B.dp - A.dp) + r.angB.dot(B.dtheta) -
+                         r.angA.dot(A.dtheta);
+        if (s >= -def.positionSlop) continue;
+        const double push = -r.mass * std::max(def.positionCorrection * (s + def.positionSlop), -0.05);
+        A.dp -= (A.invMass * push) * r.lin;
+        B.dp += (B.invMass * push) * r.lin;
+        A.dtheta -= push * r.dwA, A.correction -= push * r.dwA;
+        B.dtheta += push * r.dwB, B.correction += push * r.dwB;
+      }
+    }
+  }
+  for (SolverBody& b : solverBodies) {
+    if (b.correction.isZero()) continue;
+    b.dq = integrateRotation(b.dq, b.correction, 1.0);
+    b.correction.setZero();
+  }
+}
+
+void World::Impl::storeImpulses() {
+  for (const SolverManifold& m : solverManifolds) {
+    ContactManifold& c = contacts[m.source];
+    for (int k = 0; k < m.count; ++k) c.state[k].normalImpulse = m.p[k].normal.impulse;
+    for (int r = 0; r < 3; ++r) c.friction[r] = m.friction[r].impulse;
+    c.sliding = m.sliding;
+  }
+}
+
+// Contact levels for shock propagation: static and kinematic bodies are level 0, and every
+// dynamic body is one more than the lowest level it touches (breadth first, in index order).
+// Bodies not resting on anything keep a level above all others.
+void World::Impl::computeLevels() {
+  const int n = static_cast<int>(solverBodies.size());
+  constexpr int kFree = 1 << 30;
+  levels.assign(n, kFree);
+  adjacencyStart.assign(n + 1, 0);
+  for (const SolverManifold& m : solverManifolds) ++adjacencyStart[m.a + 1], ++adjacencyStart[m.b + 1];
+  for (int i = 0; i < n; ++i) adjacencyStart[i + 1] += adjacencyStart[i];
+  adjacency.resize(adjacencyStart[n]);
+  fill.assign(adjacencyStart.begin(), adjacencyStart.end() - 1);
+  for (int i = 0; i < static_cast<int>(solverManifolds.size()); ++i) {
+    adjacency[fill[solverManifolds[i].a]++] = i;
+    adjacency[fill[solverManifolds[i].b]++] = i;
+  }
+  queue.clear();
+  for (int i = 0; i < n; ++i)
+    if (solverBodies[i].invMass == 0.0) levels[i] = 0, queue.push_back(i);
+  for (size_t q = 0; q < queue.size(); ++q) {
+    const int body = queue[q];
+    for (int e = adjacencyStart[body]; e < adjacencyStart[body + 1]; ++e) {
+      const SolverManifold& m = solverManifolds[adjacency[e]];
+      const int other = m.a == body ? m.b : m.a;
+      if (levels[other] == kFree) levels[other] = levels[body] + 1, queue.push_back(other);
+    }
+  }
+  shockOrder.resize(solverManifolds.size());
+  for (size_t i = 0; i < shockOrder.size(); ++i) shockOrder[i] = static_cast<int>(i);
+  auto lowLevel = [&](int i) {
+    return std::min(levels[solverManifolds[i].a], levels[solverManifolds[i].b]);
+  };
+  std::stable_sort(shockOrder.begin(), shockOrder.end(),
+                   [&](int x, int y) { return lowLevel(x) < lowLevel(y); });
+}
+
+}  // namespace grip

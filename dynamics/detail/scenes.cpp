@@ -1,0 +1,45 @@
+#include "dynamics/scenes.hpp"
+
+namespace grip::scenes {
+
+BodyId addGround(World& w, double staticFriction, double dynamicFriction) {
+  BodyDef g;
+  g.type = BodyType::Static;
+  g.shape = Shape::plane(Vec3::UnitY(), 0.0);
+  g.material.staticFriction = staticFriction;
+  g.material.dynamicFriction = dynamicFriction;
+  g.name = "ground";
+  return w.createBody(g);
+}
+
+std::vector<BodyId> addBoxStack(World& w, int count, double size, double mass, const Vec3& base) {
+  std::vector<BodyId> ids;
+  const ShapePtr cube = Shape::box(Vec3::Constant(size / 2));
+  for (int i = 0; i < count; ++i) {
+    BodyDef d;
+    d.shape = cube;
+    d.mass = mass;
+    d.position = base + Vec3(0, size / 2 + size * i, 0);
+    d.name = "stack" + std::to_string(i);
+    ids.push_back(w.createBody(d));
+  }
+  return ids;
+}
+
+std::vector<BodyId> addBoxPile(World& w, int count) {
+  std::vector<BodyId> ids;
+  const ShapePtr cube = Shape::box(Vec3::Constant(0.1));
+  for (int i = 0; i < count; ++i) {
+    const int x = i % 10, z = (i / 10) % 10, layer = i / 100;
+    BodyDef d;
+    d.shape = cube;
+    d.mass = 1.0;
+    const double stagger = (layer % 2) * 0.1;
+    d.position = Vec3(x * 0.25 - 1.125 + stagger, 0.15 + layer * 0.25, z * 0.25 - 1.125 + stagger);
+    d.orientation = Quat(Eigen::AngleAxisd(0.1 * (i % 7), Vec3(1, 2, 3).normalized()));
+    ids.push_back(w.createBody(d));
+  }
+  return ids;
+}
+
+}  // namespace grip::scenes

@@ -1,0 +1,273 @@
+// One step of the World, top to bottom:
+//   collide       broadphase -> narrowphase -> contact manifolds (warm-start memory kept)
+//   contactEvents begin/end of touching pairs, sensor overlaps
+//   solve         soft-step solver: per substep integrate velocities, warm start, solve with
+//                 bias, integrate positions, relax; then restitution, store impulses
+//   updateSleep   islands; islands at rest long enough fall asleep
+//   finishStep    clear forces, advance time
+#include <algorithm>
+#include <numeric>
+
+#include "dynamics/detail/world_impl.hpp"
+
+namespace grip {
+
+using detail::Body;
+using detail::ContactManifold;
+
+void World::step(double dt) {
+  requireFinite(dt, "step.dt");
+  if (dt < 0.0) throw Error("step.dt", "must not be negative");
+  if (dt == 0.0) return;
+  Impl& w = *impl_;
+  w.beginEvents.clear(), w.endEvents.clear(), w.sensorBegin.clear(), w.sensorEnd.clear();
+  if (w.collide(dt)) w.collide(dt);  // a body woke: collide again so it sees its resting contacts
+  w.contactEvents();
+  w.solve(dt);
+  w.updateSleep(dt);
+  w.finishStep();
+  w.time += dt;
+  ++w.steps;
+}
+
+// ---- collide ------------------------------------------------------------------------------
+
+namespace {
+constexpr double kTouching = 1e-3;  // m: a manifold point this close counts as touching
+
+// Warm-start memory for a new point: the old point with the same feature id, else the
+// nearest old point within 5 mm (feature ids change when a face pair flips near a tie).
+detail::PointState matchPoint(const ContactManifold& old, const ContactPoint& p) {
+  int best = -1;
+  double bestDist2 = 0.005 * 0.005;
+  for (int j = 0; j < old.m.pointCount; ++j) {
+    if (old.state[j].featureId == p.featureId) return old.state[j];
+    const double d2 = (old.m.points[j].position - p.position).squaredNorm();
+    if (d2 < bestDist2) best = j, bestDist2 = d2;
+  }
+  return best >= 0 ? old.state[best] : detail::PointState{};
+}
+
+bool carriesOver(const std::vector<Body>& bodies, const ContactManifold& c) {
+  // Contacts among sleeping and static bodies are not recomputed; keep them as they were.
+  const Body &a = bodies[c.bodyA], &b = bodies[c.bodyB];
+  return a.alive && b.alive && !a.awake && !b.awake;
+}
+}  // namespace
+
+bool World::Impl::collide(double dt) {
+  // Proxies: every live body; awake non-static ones are active.
+  const uint32_t n = static_cast<uint32_t>(bodies.size());
+  proxyBoxes.clear(), proxyActive.clear(), proxyBody.clear();
+  for (uint32_t i = 0; i < n; ++i) {
+    Body& b = bodies[i];
+    if (!b.alive) continue;
+    const bool active = b.awake && b.type != BodyType::Static;
+    if (active) {
+      refreshBounds(b);
+      // Grow by the speculative distance and by the motion of this step.
+      Aabb box = b.aabb.inflated(def.speculativeDistance);
+      const Vec3 travel = b.v * dt;
+      box.min += travel.cwiseMin(Vec3::Zero());
+      box.max += travel.cwiseMax(Vec3::Zero());
+      proxyBoxes.push_back(box);
+    } else {
+      proxyBoxes.push_back(b.aabb);
+    }
+    proxyActive.push_back(active);
+    proxyBody.push_back(i);
+  }
+  broadphase.findPairs(proxyBoxes, proxyActive, pairs);
+
+  std::swap(previous, contacts);
+  contacts.clear();
+  previousSensorPairs.swap(sensorPairs);
+  sensorPairs.clear();
+  bool woke = false;
+  stats.candidatePairs = static_cast<int>(pairs.size());
+
+  for (const auto& [pa, pb] : pairs) {
+    const uint32_t ia = proxyBody[pa], ib = proxyBody[pb];
+    Body &A = bodies[ia], &B = bodies[ib];
+    if (!A.isDynamic() && !B.isDynamic() && !A.sensor && !B.sensor) continue;
+    if (A.sensor || B.sensor) {
+      if (A.sensor && B.sensor) continue;
+      scratch.clear();
+      grip::collide(*A.shape, A.pose, *B.shape, B.pose, 0.0, scratch);
+      bool overlapping = false;
+      for (const Manifold& m : scratch)
+        for (int k = 0; k < m.pointCount; ++k) overlapping |= m.points[k].separation < 0.0;
+      if (overlapping) sensorPairs.push_back({A.sensor ? ia : ib, A.sensor ? ib : ia});
+      continue;
+    }
+    // Speculative margin: the contact is made early enough to stop this step's approach.
+    const double approach = (A.v.norm() + B.v.norm()) * dt;
+    const double margin = def.speculativeDistance + std::min(approach, 1.0);
+    scratch.clear();
+    grip::collide(*A.shape, A.pose, *B.shape, B.pose, margin, scratch);
+    for (const Manifold& m : scratch) {
+      if (m.pointCount == 0) continue;
+      ContactManifold c;
+      c.bodyA = ia, c.bodyB = ib, c.m = m;
+      // Carry warm-start impulses over from last step by matching feature ids.
+      auto it = std::lower_bound(previous.begin(), previous.end(), c,
+                                 [](const ContactManifold& x, const ContactManifold& y) {
+                                   return x.keyLess(y);
+                                 });
+      const bool found = it != previous.end() && !c.keyLess(*it) && !it->keyLess(c);
+      for (int k = 0; k < m.pointCount; ++k) {
+        c.touching |= m.points[k].separation < kTouching;
+        if (found) c.state[k] = matchPoint(*it, m.points[k]);
+        c.state[k].featureId = m.points[k].featureId;
+      }
+      if (found) {
+        for (int r = 0; r < 3; ++r) c.friction[r] = it->friction[r];
+        c.sliding = it->sliding;
+      }
+      // Speculative contacts slow bodies before they touch: remember how fast they closed.
+      const Vec3& x = m.points[0].position;
+      const double closing = -((B.v + B.w.cross(x - B.com)) - (A.v + A.w.cross(x - A.com))).dot(m.normal);
+      c.approachSpeed = std::max(closing, found && !it->touching ? it->approachSpeed : 0.0);
+      if (c.touching && A.awake != B.awake) {
+        const uint32_t sleeper = A.awake ? ib : ia;
+        if (bodies[sleeper].isDynamic() && !bodies[sleeper].awake) {
+          wakeBody(sleeper);
+          woke = true;
+        }
+      }
+      contacts.push_back(c);
+    }
+  }
+  // Keep contacts between bodies that did not move (sleeping or static), in key order.
+  const size_t fresh = contacts.size();
+  for (const ContactManifold& c : previous)
+    if (carriesOver(bodies, c)) contacts.push_back(c);
+  auto less = [](const ContactManifold& x, const ContactManifold& y) { return x.keyLess(y); };
+  std::inplace_merge(contacts.begin(), contacts.begin() + static_cast<long>(fresh),
+                     contacts.end(), less);
+  if (woke) {  // collide again from the same warm-start memory
+    std::swap(previous, contacts);
+    previousSensorPairs.swap(sensorPairs);
+  }
+  return woke;
+}
+
+// ---- events -------------------------------------------------------------------------------
+
+namespace {
+struct PairTouch {
+  uint64_t key;
+  const ContactManifold* first;  // the first touching manifold of the pair
+};
+
+void touchingPairs(const std::vector<ContactManifold>& list, std::vector<PairTouch>& out) {
+  out.clear();
+  for (const ContactManifold& c : list) {
+    if (!c.touching) continue;
+    if (!out.empty() && out.back().key == c.pairKey()) continue;
+    out.push_back({c.pairKey(), &c});
+  }
+}
+}  // namespace
+
+void World::Impl::contactEvents() {
+  static thread_local std::vector<PairTouch> now, before;
+  touchingPairs(contacts, now);
+  touchingPairs(previous, before);
+  auto event = [&](const ContactManifold& c) {
+    ContactEvent e;
+    e.a = idOf(c.bodyA), e.b = idOf(c.bodyB);
+    e.normal = c.m.normal;
+    e.point = c.m.points[0].position;
+    e.approachSpeed = std::max(0.0, c.approachSpeed);
+    return e;
+  };
+  size_t i = 0, j = 0;
+  while (i < now.size() || j < before.size()) {
+    if (j == before.size() || (i < now.size() && now[i].key < before[j].key)) {
+      beginEvents.push_back(event(*now[i++].first));
+    } else if (i == now.size() || before[j].key < now[i].key) {
+      const ContactManifold& c = *before[j++].first;
+      if (bodies[c.bodyA].alive && bodies[c.bodyB].alive) endEvents.push_back(event(c));
+    } else {
+      ++i, ++j;
+    }
+  }
+  std::sort(sensorPairs.begin(), sensorPairs.end());
+  static thread_local std::vector<detail::SensorPair> diff;
+  diff.clear();
+  std::set_difference(sensorPairs.begin(), sensorPairs.end(), previousSensorPairs.begin(),
+                      previousSensorPairs.end(), std::back_inserter(diff));
+  for (const auto& p : diff) sensorBegin.push_back({idOf(p.sensor), idOf(p.visitor)});
+  diff.clear();
+  std::set_difference(previousSensorPairs.begin(), previousSensorPairs.end(),
+                      sensorPairs.begin(), sensorPairs.end(), std::back_inserter(diff));
+  for (const auto& p : diff)
+    if (bodies[p.sensor].alive && bodies[p.visitor].alive)
+      sensorEnd.push_back({idOf(p.sensor), idOf(p.visitor)});
+}
+
+// ---- sleep --------------------------------------------------------------------------------
+
+namespace {
+uint32_t findRoot(std::vector<uint32_t>& parent, uint32_t i) {
+  while (parent[i] != i) {
+    parent[i] = parent[parent[i]];
+    i = parent[i];
+  }
+  return i;
+}
+}  // namespace
+
+void World::Impl::updateSleep(double dt) {
+  // Islands: awake dynamic bodies joined by touching contacts (static bodies do not join).
+  static thread_local std::vector<uint32_t> parent;
+  static thread_local std::vector<double> islandSleepTime;
+  const uint32_t n = static_cast<uint32_t>(bodies.size());
+  parent.resize(n);
+  std::iota(parent.begin(), parent.end(), 0u);
+  for (const ContactManifold& c : contacts) {
+    if (!c.touching) continue;
+    const Body &A = bodies[c.bodyA], &B = bodies[c.bodyB];
+    if (!A.isDynamic() || !B.isDynamic() || !A.awake || !B.awake) continue;
+    const uint32_t ra = findRoot(parent, c.bodyA), rb = findRoot(parent, c.bodyB);
+    if (ra != rb) parent[std::max(ra, rb)] = std::min(ra, rb);
+  }
+  islandSleepTime.assign(n, 1e300);
+  for (uint32_t i : awakeBodies) {
+    Body& b = bodies[i];
+    const bool still = b.v.norm() < def.sleepLinearVelocity && b.w.norm() < def.sleepAngularVelocity;
+    b.sleepTime = (still && b.allowSleep && b.isDynamic()) ? b.sleepTime + dt : 0.0;
+    const uint32_t r = findRoot(parent, i);
+    islandSleepTime[r] = std::min(islandSleepTime[r], b.sleepTime);
+  }
+  int islands = 0, sleeping = 0;
+  for (uint32_t i : awakeBodies) {
+    const uint32_t r = findRoot(parent, i);
+    if (r != i) continue;
+    ++islands;
+    if (def.enableSleep && islandSleepTime[r] >= def.timeToSleep) {
+      ++sleeping;
+      const uint32_t group = nextSleepGroup++;
+      if (nextSleepGroup == 0) nextSleepGroup = 1;
+      for (uint32_t j : awakeBodies) {
+        if (findRoot(parent, j) != r) continue;
+        Body& b = bodies[j];
+        b.awake = false;
+        b.v.setZero(), b.w.setZero();
+        b.sleepGroup = group;
+      }
+    }
+  }
+  stats.islands = islands;
+  stats.sleepingIslands = sleeping;
+}
+
+void World::Impl::finishStep() {
+  for (Body& b : bodies) {
+    b.force.setZero(), b.torque.setZero();
+    b.linearAccel.setZero(), b.angularAccel.setZero();
+  }
+}
+
+}  // namespace grip

@@ -1,0 +1,472 @@
+// The World's public API: creation, validation, forces, state access and queries.
+#include <algorithm>
+
+#include "dynamics/detail/world_impl.hpp"
+
+namespace grip {
+
+using detail::Body;
+
+namespace {
+
+void validateWorldDef(const WorldDef& d) {
+  requireFinite(d.gravity, "WorldDef.gravity");
+  if (d.substeps < 1 || d.substeps > 64) throw Error("WorldDef.substeps", "must be in 1..64");
+  if (d.relaxIterations < 0 || d.relaxIterations > 64)
+    throw Error("WorldDef.relaxIterations", "must be in 0..64");
+  if (d.positionIterations < 0 || d.positionIterations > 64)
+    throw Error("WorldDef.positionIterations", "must be in 0..64");
+  requireNonNegative(d.positionCorrection, "WorldDef.positionCorrection");
+  if (d.positionCorrection > 1.0) throw Error("WorldDef.positionCorrection", "must be at most 1");
+  requireNonNegative(d.positionSlop, "WorldDef.positionSlop");
+  requirePositive(d.contactHertz, "WorldDef.contactHertz");
+  requireNonNegative(d.contactDampingRatio, "WorldDef.contactDampingRatio");
+  requirePositive(d.maxPushoutVelocity, "WorldDef.maxPushoutVelocity");
+  requireNonNegative(d.restitutionThreshold, "WorldDef.restitutionThreshold");
+  requireNonNegative(d.speculativeDistance, "WorldDef.speculativeDistance");
+  requireNonNegative(d.linearSlop, "WorldDef.linearSlop");
+  requireNonNegative(d.stickVelocity, "WorldDef.stickVelocity");
+  requireNonNegative(d.sleepLinearVelocity, "WorldDef.sleepLinearVelocity");
+  requireNonNegative(d.sleepAngularVelocity, "WorldDef.sleepAngularVelocity");
+  requireNonNegative(d.timeToSleep, "WorldDef.timeToSleep");
+  requirePositive(d.maxLinearSpeed, "WorldDef.maxLinearSpeed");
+}
+
+void validateMaterial(const MaterialDef& m, const char* staticF, const char* dynamicF,
+                      const char* restitution, const char* density) {
+  requireNonNegative(m.staticFriction, staticF);
+  requireNonNegative(m.dynamicFriction, dynamicF);
+  if (m.dynamicFriction > m.staticFriction)
+    throw Error(dynamicF, "must not exceed the static friction");
+  requireNonNegative(m.restitution, restitution);
+  if (m.restitution > 1.0) throw Error(restitution, "must be at most 1");
+  requirePositive(m.density, density);
+}
+
+}  // namespace
+
+World::World(const WorldDef& def) : impl_(std::make_unique<Impl>()) {
+  validateWorldDef(def);
+  impl_->def = def;
+  impl_->bodies.reserve(64);
+}
+
+World::~World() = default;
+
+Body& World::Impl::body(BodyId id, const char* field) {
+  if (id.isNull()) throw Error(field, "null body id");
+  if (id.index >= bodies.size() || !bodies[id.index].alive ||
+      bodies[id.index].generation != id.generation)
+    throw Error(field, "unknown or stale body id (index " + std::to_string(id.index) +
+                           ", generation " + std::to_string(id.generation) + ")");
+  return bodies[id.index];
+}
+
+const Body& World::Impl::body(BodyId id, const char* field) const {
+  return const_cast<Impl*>(this)->body(id, field);
+}
+
+void World::Impl::refreshBounds(Body& b) const { b.aabb = b.shape->bounds(b.pose); }
+
+void World::Impl::wakeBody(uint32_t slot) {
+  Body& b = bodies[slot];
+  if (b.type == BodyType::Static) return;
+  if (b.awake) {
+    b.sleepTime = 0.0;
+    return;
+  }
+  // Wake the whole sleeping island the body belongs to.
+  const uint32_t group = b.sleepGroup;
+  for (Body& o : bodies) {
+    if (!o.alive || o.awake) continue;
+    if (&o == &b || (group != 0 && o.sleepGroup == group)) {
+      o.awake = true;
+      o.sleepTime = 0.0;
+      o.sleepGroup = 0;
+    }
+  }
+}
+
+BodyId World::createBody(const BodyDef& d) {
+  if (!d.shape) throw Error("BodyDef.shape", "is missing");
+  requireFinite(d.position, "BodyDef.position");
+  requireFinite(d.orientation, "BodyDef.orientation");
+  requireFinite(d.linearVelocity, "BodyDef.linearVelocity");
+  requireFinite(d.angularVelocity, "BodyDef.angularVelocity");
+  requireNonNegative(d.mass, "BodyDef.mass");
+  requireNonNegative(d.linearDamping, "BodyDef.linearDamping");
+  requireNonNegative(d.angularDamping, "BodyDef.angularDamping");
+  requireFinite(d.gravityScale, "BodyDef.gravityScale");
+  validateMaterial(d.material, "BodyDef.material.staticFriction",
+                   "BodyDef.material.dynamicFriction", "BodyDef.material.restitution",
+                   "BodyDef.material.density");
+  if (d.shape->type() == ShapeType::Plane && d.type != BodyType::Static)
+    throw Error("BodyDef.shape", "a plane can only belong to a static body");
+
+  Body b;
+  b.alive = true;
+  b.type = d.type;
+  b.shape = d.shape;
+  b.material = d.material;
+  b.pose.p = d.position;
+  b.pose.q = d.orientation.normalized();
+  b.linearDamping = d.linearDamping;
+  b.angularDamping = d.angularDamping;
+  b.gravityScale = d.gravityScale;
+  b.sensor = d.isSensor;
+  b.allowSleep = d.allowSleep;
+  b.awake = d.type != BodyType::Static && d.isAwake;
+  b.userData = d.userData;
+  b.name = d.name;
+  if (d.type == BodyType::Dynamic) {
+    MassProperties mp = d.shape->massProperties(d.material.density);
+    if (!(mp.mass > 0.0) || !mp.inertia.allFinite())
+      throw Error("BodyDef.shape", "has no volume, so no mass");
+    if (d.mass > 0.0) {  // scale density so the mass matches; inertia scales with it
+      mp.inertia *= d.mass / mp.mass;
+      mp.mass = d.mass;
+    }
+    b.invMass = 1.0 / mp.mass;
+    b.localCom = mp.com;
+    b.inertiaLocal = mp.inertia;
+    b.invInertiaLocal = mp.inertia.inverse();
+    if (!b.invInertiaLocal.allFinite()) throw Error("BodyDef.shape", "has a singular inertia");
+    b.v = d.linearVelocity;
+    b.w = d.angularVelocity;
+  } else if (d.type == BodyType::Kinematic) {
+    b.v = d.linearVelocity;
+    b.w = d.angularVelocity;
+  }
+  b.com = b.pose.apply(b.localCom);
+  impl_->refreshBounds(b);
+
+  uint32_t slot;
+  if (!impl_->freeSlots.empty()) {
+    slot = impl_->freeSlots.back();
+    impl_->freeSlots.pop_back();
+    b.generation = impl_->bodies[slot].generation + 1;
+    if (b.generation == 0) b.generation = 1;
+    impl_->bodies[slot] = std::move(b);
+  } else {
+    slot = static_cast<uint32_t>(impl_->bodies.size());
+    b.generation = 1;
+    impl_->bodies.push_back(std::move(b));
+  }
+  ++impl_->aliveCount;
+  return BodyId{slot, impl_->bodies[slot].generation};
+}
+
+void World::destroyBody(BodyId id) {
+  Body& b = impl_->body(id, "destroyBody.id");
+  // Wake whatever rested on it, then drop its contacts.
+  for (const auto& c : impl_->contacts) {
+    if (c.bodyA == id.index) impl_->wakeBody(c.bodyB);
+    if (c.bodyB == id.index) impl_->wakeBody(c.bodyA);
+  }
+  std::erase_if(impl_->contacts, [&](const detail::ContactManifold& c) {
+    return c.bodyA == id.index || c.bodyB == id.index;
+  });
+  std::erase_if(impl_->sensorPairs, [&](const detail::SensorPair& p) {
+    return p.sensor == id.index || p.visitor == id.index;
+  });
+  const uint32_t generation = b.generation;  // kept so the slot's next body gets a new one
+  b = Body{};
+  b.generation = generation;
+  impl_->freeSlots.push_back(id.index);
+  --impl_->aliveCount;
+}
+
+bool World::isValid(BodyId id) const {
+  return !id.isNull() && id.index < impl_->bodies.size() && impl_->bodies[id.index].alive &&
+         impl_->bodies[id.index].generation == id.generation;
+}
+
+// ---- forces -------------------------------------------------------------------------------
+
+void World::addForce(BodyId id, const Vec3& f, ForceMode mode) {
+  Body& b = impl_->body(id, "addForce.id");
+  requireFinite(f, "addForce.force");
+  if (!b.isDynamic()) return;
+  switch (mode) {
+    case ForceMode::Force: b.force += f; break;
+    case ForceMode::Acceleration: b.linearAccel += f; break;
+    case ForceMode::Impulse: b.v += b.invMass * f; break;
+    case ForceMode::VelocityChange: b.v += f; break;
+  }
+  impl_->wakeBody(id.index);
+}
+
+void World::addTorque(BodyId id, const Vec3& t, ForceMode mode) {
+  Body& b = impl_->body(id, "addTorque.id");
+  requireFinite(t, "addTorque.torque");
+  if (!b.isDynamic()) return;
+  switch (mode) {
+    case ForceMode::Force: b.torque += t; break;
+    case ForceMode::Acceleration: b.angularAccel += t; break;
+    case ForceMode::Impulse: b.w += b.invInertiaWorld() * t; break;
+    case ForceMode::VelocityChange: b.w += t; break;
+  }
+  impl_->wakeBody(id.index);
+}
+
+void World::addForceAtPosition(BodyId id, const Vec3& f, const Vec3& x, ForceMode mode) {
+  Body& b = impl_->body(id, "addForceAtPosition.id");
+  requireFinite(f, "addForceAtPosition.force");
+  requireFinite(x, "addForceAtPosition.position");
+  if (!b.isDynamic()) return;
+  // As PhysX's addForceAtPos (which Unity uses): the force acts at the centre of mass and
+  // the torque (x - com) x f is applied with the same mode.
+  const Vec3 torque = (x - b.com).cross(f);
+  addForce(id, f, mode);
+  addTorque(id, torque, mode);
+}
+
+Vec3 World::accumulatedForce(BodyId id) const {
+  const Body& b = impl_->body(id, "accumulatedForce.id");
+  if (b.invMass == 0.0) return b.force;
+  return b.force + b.linearAccel / b.invMass;
+}
+
+Vec3 World::accumulatedTorque(BodyId id) const {
+  const Body& b = impl_->body(id, "accumulatedTorque.id");
+  if (b.invMass == 0.0) return b.torque;
+  const Mat3 R = b.pose.q.toRotationMatrix();
+  return b.torque + R * b.inertiaLocal * R.transpose() * b.angularAccel;
+}
+
+// ---- state --------------------------------------------------------------------------------
+
+BodyType World::bodyType(BodyId id) const { return impl_->body(id, "bodyType.id").type; }
+Transform World::pose(BodyId id) const { return impl_->body(id, "pose.id").pose; }
+Vec3 World::centerOfMass(BodyId id) const { return impl_->body(id, "centerOfMass.id").com; }
+Vec3 World::localCenterOfMass(BodyId id) const {
+  return impl_->body(id, "localCenterOfMass.id").localCom;
+}
+Vec3 World::linearVelocity(BodyId id) const { return impl_->body(id, "linearVelocity.id").v; }
+Vec3 World::angularVelocity(BodyId id) const { return impl_->body(id, "angularVelocity.id").w; }
+Vec3 World::velocityAtPoint(BodyId id, const Vec3& x) const {
+  const Body& b = impl_->body(id, "velocityAtPoint.id");
+  requireFinite(x, "velocityAtPoint.point");
+  return b.v + b.w.cross(x - b.com);
+}
+double World::mass(BodyId id) const {
+  const Body& b = impl_->body(id, "mass.id");
+  return b.invMass > 0.0 ? 1.0 / b.invMass : 0.0;
+}
+double World::inverseMass(BodyId id) const { return impl_->body(id, "inverseMass.id").invMass; }
+Mat3 World::inertiaWorld(BodyId id) const {
+  const Body& b = impl_->body(id, "inertiaWorld.id");
+  return rotateInertia(b.inertiaLocal, b.pose.q);
+}
+Mat3 World::inverseInertiaWorld(BodyId id) const {
+  return impl_->body(id, "inverseInertiaWorld.id").invInertiaWorld();
+}
+const Shape& World::shape(BodyId id) const { return *impl_->body(id, "shape.id").shape; }
+ShapePtr World::shapePtr(BodyId id) const { return impl_->body(id, "shapePtr.id").shape; }
+const MaterialDef& World::material(BodyId id) const {
+  return impl_->body(id, "material.id").material;
+}
+const std::string& World::name(BodyId id) const { return impl_->body(id, "name.id").name; }
+uint64_t World::userData(BodyId id) const { return impl_->body(id, "userData.id").userData; }
+bool World::isAwake(BodyId id) const { return impl_->body(id, "isAwake.id").awake; }
+bool World::isSensor(BodyId id) const { return impl_->body(id, "isSensor.id").sensor; }
+Aabb World::bounds(BodyId id) const { return impl_->body(id, "bounds.id").aabb; }
+
+void World::setPose(BodyId id, const Vec3& p, const Quat& q) {
+  Body& b = impl_->body(id, "setPose.id");
+  requireFinite(p, "setPose.position");
+  requireFinite(q, "setPose.orientation");
+  b.pose.p = p;
+  b.pose.q = q.normalized();
+  b.com = b.pose.apply(b.localCom);
+  impl_->refreshBounds(b);
+  impl_->wakeBody(id.index);
+}
+
+void World::setLinearVelocity(BodyId id, const Vec3& v) {
+  Body& b = impl_->body(id, "setLinearVelocity.id");
+  requireFinite(v, "setLinearVelocity.velocity");
+  if (b.type == BodyType::Static) return;
+  b.v = v;
+  impl_->wakeBody(id.index);
+}
+
+void World::setAngularVelocity(BodyId id, const Vec3& w) {
+  Body& b = impl_->body(id, "setAngularVelocity.id");
+  requireFinite(w, "setAngularVelocity.velocity");
+  if (b.type == BodyType::Static) return;
+  b.w = w;
+  impl_->wakeBody(id.index);
+}
+
+void World::moveKinematic(BodyId id, const Vec3& p, const Quat& q, double dt) {
+  Body& b = impl_->body(id, "moveKinematic.id");
+  requireFinite(p, "moveKinematic.position");
+  requireFinite(q, "moveKinematic.orientation");
+  requirePositive(dt, "moveKinematic.dt");
+  if (b.type != BodyType::Kinematic) throw Error("moveKinematic.id", "body is not kinematic");
+  const Vec3 target = p + q.normalized() * b.localCom;
+  b.v = (target - b.com) / dt;
+  Quat dq = q.normalized() * b.pose.q.conjugate();
+  if (dq.w() < 0) dq.coeffs() = -dq.coeffs();
+  const Eigen::AngleAxisd aa(dq);
+  b.w = aa.axis() * (aa.angle() / dt);
+  impl_->wakeBody(id.index);
+}
+
+void World::setMaterial(BodyId id, const MaterialDef& m) {
+  Body& b = impl_->body(id, "setMaterial.id");
+  validateMaterial(m, "setMaterial.staticFriction", "setMaterial.dynamicFriction",
+                   "setMaterial.restitution", "setMaterial.density");
+  b.material.staticFriction = m.staticFriction;
+  b.material.dynamicFriction = m.dynamicFriction;
+  b.material.restitution = m.restitution;
+}
+
+void World::wake(BodyId id) {
+  impl_->body(id, "wake.id");
+  impl_->wakeBody(id.index);
+}
+
+// ---- queries ------------------------------------------------------------------------------
+
+namespace {
+bool rayHitsBox(const Aabb& b, const Vec3& o, const Vec3& d, double maxT) {
+  double t0 = 0.0, t1 = maxT;
+  for (int i = 0; i < 3; ++i) {
+    if (std::abs(d[i]) < 1e-300) {
+      if (o[i] < b.min[i] || o[i] > b.max[i]) return false;
+      continue;
+    }
+    double a = (b.min[i] - o[i]) / d[i], c = (b.max[i] - o[i]) / d[i];
+    if (a > c) std::swap(a, c);
+    t0 = std::max(t0, a);
+    t1 = std::min(t1, c);
+    if (t0 > t1) return false;
+  }
+  return true;
+}
+
+void validateRay(const Vec3& origin, const Vec3& dir, double maxDistance, const char* o,
+                 const char* d, const char* m) {
+  requireFinite(origin, o);
+  requireFinite(dir, d);
+  if (std::abs(dir.norm() - 1.0) > 1e-6) throw Error(d, "must be a unit vector");
+  requireNonNegative(maxDistance, m);
+}
+}  // namespace
+
+std::optional<WorldRayHit> World::rayCast(const Vec3& origin, const Vec3& dir,
+                                          double maxDistance) const {
+  validateRay(origin, dir, maxDistance, "rayCast.origin", "rayCast.dir", "rayCast.maxDistance");
+  std::optional<WorldRayHit> best;
+  double bestT = maxDistance;
+  for (uint32_t i = 0; i < impl_->bodies.size(); ++i) {
+    const Body& b = impl_->bodies[i];
+    if (!b.alive || b.sensor) continue;
+    if (!rayHitsBox(b.aabb, origin, dir, bestT)) continue;
+    RayHit h;
+    if (grip::rayCast(*b.shape, b.pose, origin, dir, bestT, h) && (!best || h.distance < bestT)) {
+      bestT = h.distance;
+      best = WorldRayHit{impl_->idOf(i), h};
+    }
+  }
+  return best;
+}
+
+std::optional<RayHit> World::rayCastBody(BodyId id, const Vec3& origin, const Vec3& dir,
+                                         double maxDistance, int child) const {
+  const Body& b = impl_->body(id, "rayCastBody.id");
+  validateRay(origin, dir, maxDistance, "rayCastBody.origin", "rayCastBody.dir",
+              "rayCastBody.maxDistance");
+  RayHit h;
+  bool hit;
+  if (child < 0) {
+    hit = grip::rayCast(*b.shape, b.pose, origin, dir, maxDistance, h);
+  } else {
+    const size_t n = b.shape->type() == ShapeType::Compound ? b.shape->children().size() : 1;
+    if (static_cast<size_t>(child) >= n) throw Error("rayCastBody.child", "out of range");
+    hit = grip::rayCastChild(*b.shape, b.pose, static_cast<uint32_t>(child), origin, dir,
+                             maxDistance, h);
+  }
+  if (!hit) return std::nullopt;
+  return h;
+}
+
+void World::overlap(const Shape& shape, const Transform& t, double margin,
+                    std::vector<OverlapHit>& hits) const {
+  requireFinite(t.p, "overlap.transform.position");
+  requireFinite(t.q, "overlap.transform.orientation");
+  requireNonNegative(margin, "overlap.margin");
+  if (shape.type() == ShapeType::Plane) throw Error("overlap.shape", "cannot be a plane");
+  hits.clear();
+  const Aabb box = shape.bounds(t).inflated(margin);
+  std::vector<Manifold>& scratch = impl_->scratch;
+  for (uint32_t i = 0; i < impl_->bodies.size(); ++i) {
+    const Body& b = impl_->bodies[i];
+    if (!b.alive || b.sensor || !b.aabb.overlaps(box)) continue;
+    scratch.clear();
+    collide(shape, t, *b.shape, b.pose, margin, scratch);
+    for (const Manifold& m : scratch) hits.push_back(OverlapHit{impl_->idOf(i), m});
+  }
+}
+
+SurfacePoint World::closestPoint(BodyId id, const Vec3& x) const {
+  const Body& b = impl_->body(id, "closestPoint.id");
+  requireFinite(x, "closestPoint.point");
+  return grip::closestPoint(*b.shape, b.pose, x);
+}
+
+// ---- bookkeeping --------------------------------------------------------------------------
+
+const std::vector<ContactEvent>& World::contactBeginEvents() const { return impl_->beginEvents; }
+const std::vector<ContactEvent>& World::contactEndEvents() const { return impl_->endEvents; }
+const std::vector<SensorEvent>& World::sensorBeginEvents() const { return impl_->sensorBegin; }
+const std::vector<SensorEvent>& World::sensorEndEvents() const { return impl_->sensorEnd; }
+
+std::vector<BodyId> World::bodies() const {
+  std::vector<BodyId> ids;
+  ids.reserve(impl_->aliveCount);
+  for (uint32_t i = 0; i < impl_->bodies.size(); ++i)
+    if (impl_->bodies[i].alive) ids.push_back(impl_->idOf(i));
+  return ids;
+}
+int World::bodyCount() const { return impl_->aliveCount; }
+int World::contactConstraintCount() const { return impl_->constraintCount; }
+const StepStats& World::stats() const { return impl_->stats; }
+const WorldDef& World::def() const { return impl_->def; }
+void World::setGravity(const Vec3& g) {
+  requireFinite(g, "setGravity.gravity");
+  impl_->def.gravity = g;
+}
+Vec3 World::gravity() const { return impl_->def.gravity; }
+double World::time() const { return impl_->time; }
+uint64_t World::stepCount() const { return impl_->steps; }
+
+uint64_t World::stateHash() const {
+  StateHash h;
+  for (uint32_t i = 0; i < impl_->bodies.size(); ++i) {
+    const Body& b = impl_->bodies[i];
+    if (!b.alive) continue;
+    h.add(uint64_t(i));
+    h.add(b.pose);
+    h.add(b.v);
+    h.add(b.w);
+    h.add(uint64_t(b.awake));
+  }
+  return h.value();
+}
+
+double totalEnergy(const World& w) {
+  double e = 0.0;
+  for (BodyId id : w.bodies()) {
+    if (w.bodyType(id) != BodyType::Dynamic) continue;
+    const double m = w.mass(id);
+    const Vec3 v = w.linearVelocity(id), om = w.angularVelocity(id);
+    e += 0.5 * m * v.squaredNorm() + 0.5 * om.dot(w.inertiaWorld(id) * om);
+    e -= m * w.gravity().dot(w.centerOfMass(id));
+  }
+  return e;
+}
+
+}  // namespace grip

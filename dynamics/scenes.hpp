@@ -1,0 +1,21 @@
+// Reference scenes built once and shared by tests, benchmarks and the demo.
+#pragma once
+
+#include <vector>
+
+#include "dynamics/world.hpp"
+
+namespace grip::scenes {
+
+// A static ground plane at y = 0 with the given friction.
+BodyId addGround(World& w, double staticFriction = 0.6, double dynamicFriction = 0.5);
+
+// A vertical stack of `count` cubes of edge `size` and `mass`, resting exactly on the ground.
+std::vector<BodyId> addBoxStack(World& w, int count, double size = 0.1, double mass = 1.0,
+                                const Vec3& base = Vec3::Zero());
+
+// `count` cubes of edge 0.2 m dropped in a 10 x 10 grid of columns, layer above layer,
+// slightly staggered so they tumble into a pile.
+std::vector<BodyId> addBoxPile(World& w, int count);
+
+}  // namespace grip::scenes
