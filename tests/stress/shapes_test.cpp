@@ -1,0 +1,154 @@
+// Degenerate and extreme shapes, and fast bodies against a thin plate (speculative contacts).
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "stress_util.hpp"
+
+using namespace grip;
+using namespace grip::stress;
+
+namespace {
+
+// Drops `shape` from `height` onto the ground, runs `seconds` and returns the body.
+BodyId dropOnGround(World& w, const ShapePtr& shape, double height, double mass = 1.0) {
+  scenes::addGround(w);
+  return addBody(w, shape, Vec3(0, height, 0), mass);
+}
+
+void runFinite(World& w, int steps) {
+  for (int i = 0; i < steps; ++i) {
+    w.step(1.0 / 60.0);
+    std::string bad;
+    ASSERT_TRUE(allFinite(w, &bad)) << bad << " at step " << i;
+  }
+}
+
+}  // namespace
+
+TEST(Shapes, ZeroLengthCapsuleIsRejectedNamingTheField) {
+  // A capsule of zero length is a sphere: the engine asks for Shape::sphere instead.
+  try {
+    (void)Shape::capsule(0.05, 0.0);
+    ADD_FAILURE() << "Shape::capsule(r, 0) was accepted";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.field(), "Shape::capsule.halfHeight") << e.what();
+  }
+}
+
+namespace {
+
+// Capsules of (almost) no length against the ground, a box, a sphere and each other: every
+// narrowphase path with a degenerate segment. They must behave like spheres.
+void shortCapsules(double halfHeight) {
+  World w;
+  scenes::addGround(w);
+  const double r = 0.02;
+  const ShapePtr dot = Shape::capsule(r, halfHeight);
+  const BodyId box = addBody(w, Shape::box(Vec3(0.1, 0.1, 0.1)), Vec3(0, 0.1, 0));
+  const BodyId onBox = addBody(w, dot, Vec3(0, 0.4, 0));
+  // Head-on collisions on the ground: capsule against capsule, and against a sphere.
+  const BodyId left = addBody(w, dot, Vec3(1, r, 0)), right = addBody(w, dot, Vec3(1.2, r, 0));
+  const BodyId ball = addBody(w, Shape::sphere(r), Vec3(2, r, 0));
+  const BodyId third = addBody(w, dot, Vec3(2.2, r, 0));
+  w.setLinearVelocity(left, Vec3(1, 0, 0)), w.setLinearVelocity(right, Vec3(-1, 0, 0));
+  w.setLinearVelocity(ball, Vec3(1, 0, 0)), w.setLinearVelocity(third, Vec3(-1, 0, 0));
+  double closest = 1e9;
+  for (int i = 0; i < 240; ++i) {
+    w.step(1.0 / 60.0);
+    std::string bad;
+    ASSERT_TRUE(allFinite(w, &bad)) << bad << " at step " << i << ", halfHeight " << halfHeight;
+    closest = std::min(closest, (w.pose(left).p - w.pose(right).p).norm());
+    closest = std::min(closest, (w.pose(ball).p - w.pose(third).p).norm());
+  }
+  EXPECT_GT(closest, 2 * r - 2e-3) << "halfHeight " << halfHeight;
+  EXPECT_NEAR(w.pose(onBox).p.y(), 0.2 + r, 2e-3) << "halfHeight " << halfHeight;
+  EXPECT_NEAR(w.pose(box).p.y(), 0.1, 2e-3) << "halfHeight " << halfHeight;
+  for (BodyId b : {left, right, ball, third})
+    EXPECT_NEAR(w.pose(b).p.y(), r, 2e-3) << "halfHeight " << halfHeight;
+}
+
+}  // namespace
+
+TEST(Shapes, NearlyZeroLengthCapsulesBehaveLikeSpheres) {
+  shortCapsules(1e-9);
+}
+
+// ENGINE BUG (found here): Shape::capsule accepts any positive halfHeight, but the capsule
+// narrowphase (closestOnSegment / closestSegments in collision/detail/narrowphase.cpp) divides
+// by the squared segment length, which underflows to 0 for halfHeight 1e-300: 0/0 = NaN
+// reaches the bodies within a few steps. Fix: treat a segment shorter than ~1e-12 m as a point
+// (or reject such capsules in Shape::capsule). Enable when fixed.
+TEST(Shapes, DISABLED_SubnormalLengthCapsulesBehaveLikeSpheres) {
+  shortCapsules(1e-300);
+}
+
+TEST(Shapes, TinySphereRestsOnTheGround) {
+  World w;
+  const double r = 1e-3;  // 1 mm, 4 mg at the default density
+  const BodyId s = dropOnGround(w, Shape::sphere(r), 0.1, 0.0);
+  runFinite(w, 180);
+  EXPECT_NEAR(w.pose(s).p.y(), r, 1e-3);
+  EXPECT_LT(w.linearVelocity(s).norm(), 1e-2);
+}
+
+TEST(Shapes, HugeBoxRestsAndCarriesASmallOne) {
+  World w;
+  const double h = 50.0;  // a 100 m cube
+  const BodyId big = dropOnGround(w, Shape::box(Vec3::Constant(h)), h + 0.01, 1e6);
+  const BodyId small = addBody(w, Shape::box(Vec3::Constant(0.05)), Vec3(3, 2 * h + 0.1, 3));
+  runFinite(w, 240);
+  EXPECT_NEAR(w.pose(big).p.y(), h, 5e-3);
+  EXPECT_NEAR(w.pose(small).p.y(), 2 * h + 0.05, 5e-3);
+  EXPECT_LT(maxSpeed(w), 1e-2);
+}
+
+TEST(Shapes, ThinFlatBoxRestsFlat) {
+  World w;
+  const BodyId plate = dropOnGround(w, Shape::box(Vec3(0.2, 5e-4, 0.2)), 0.1);  // 1 mm thick
+  runFinite(w, 180);
+  EXPECT_NEAR(w.pose(plate).p.y(), 5e-4, 1e-3);
+}
+
+namespace {
+
+// A 1 cm sphere shot at `speed` straight at a 5 mm static plate. Returns the lowest centre
+// height reached below the plate's top face (negative: it passed the face).
+double shootAtPlate(double speed, double hz, bool sideways) {
+  WorldDef def;
+  def.gravity = Vec3::Zero();
+  World w(def);
+  const double halfThickness = 2.5e-3, r = 0.01;
+  BodyDef plate;
+  plate.type = BodyType::Static;
+  plate.shape = Shape::box(Vec3(0.5, halfThickness, 0.5));
+  if (sideways) plate.orientation = Quat(Eigen::AngleAxisd(kPi / 2, Vec3::UnitZ()));
+  const Vec3 up = plate.orientation * Vec3::UnitY();
+  w.createBody(plate);
+  BodyDef ball;
+  ball.shape = Shape::sphere(r);
+  ball.position = up * (1.0 + 0.0123);  // start off the step grid
+  ball.linearVelocity = -speed * up;
+  const BodyId b = w.createBody(ball);
+  double lowest = 1e9;
+  for (int i = 0; i < static_cast<int>(hz); ++i) {
+    w.step(1.0 / hz);
+    lowest = std::min(lowest, w.pose(b).p.dot(up) - halfThickness);
+  }
+  return lowest;
+}
+
+}  // namespace
+
+TEST(Tunnelling, FastSmallSphereDoesNotPassAFiveMillimetrePlate) {
+  for (double speed : {5.0, 50.0}) {
+    for (double hz : {60.0, 240.0}) {
+      for (bool sideways : {false, true}) {
+        const double lowest = shootAtPlate(speed, hz, sideways);
+        EXPECT_GT(lowest, 0.01 - 2e-3)
+            << speed << " m/s at " << hz << " Hz" << (sideways ? " (sideways)" : "")
+            << ": the sphere centre got to " << lowest * 1e3 << " mm from the plate face";
+      }
+    }
+  }
+}

@@ -1,0 +1,170 @@
+// Tall stacks and extreme mass ratios: they stand, nothing explodes, energy never grows.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "stress_util.hpp"
+
+using namespace grip;
+using namespace grip::stress;
+
+namespace {
+
+constexpr double kSize = 0.1;  // cube edge (m)
+
+struct StackRun {
+  double sink = 0.0;        // top box: how far below its start it is at the end (m)
+  double drift = 0.0;       // top box: largest movement after the first second (m)
+  double lateral = 0.0;     // largest horizontal offset of any box from the axis (m)
+  double energyGain = 0.0;  // largest total energy above the starting energy (J)
+  bool finite = true;
+};
+
+StackRun runStack(int count, const WorldDef& def, double hz, double seconds) {
+  World w(def);
+  scenes::addGround(w);
+  const std::vector<BodyId> boxes = scenes::addBoxStack(w, count, kSize);
+  const Vec3 start = w.pose(boxes.back()).p;
+  const double e0 = totalEnergy(w);
+  StackRun r;
+  Vec3 settled = start;
+  const int steps = static_cast<int>(std::lround(seconds * hz));
+  for (int i = 0; i < steps; ++i) {
+    w.step(1.0 / hz);
+    const Vec3 top = w.pose(boxes.back()).p;
+    if (i + 1 == static_cast<int>(hz)) settled = top;
+    if (i + 1 > static_cast<int>(hz)) r.drift = std::max(r.drift, (top - settled).norm());
+    for (BodyId b : boxes)
+      r.lateral = std::max(r.lateral, std::hypot(w.pose(b).p.x(), w.pose(b).p.z()));
+    r.energyGain = std::max(r.energyGain, totalEnergy(w) - e0);
+    r.finite = r.finite && allFinite(w);
+  }
+  r.sink = start.y() - w.pose(boxes.back()).p.y();
+  return r;
+}
+
+}  // namespace
+
+TEST(Stack, TwentyBoxesStandWithFourRelaxIterations) {
+  WorldDef def;
+  def.enableSleep = false;
+  def.relaxIterations = 4;  // docs/dynamics.md: tall stacks need more relax passes
+  const StackRun r = runStack(20, def, 60.0, 20.0);
+  ASSERT_TRUE(r.finite);
+  EXPECT_LT(r.sink, 5e-3) << "top sank " << r.sink * 1e3 << " mm";
+  EXPECT_LT(r.drift, 1e-3) << "top drifted " << r.drift * 1e3 << " mm after settling";
+  EXPECT_LT(r.lateral, 1e-3) << "a box moved " << r.lateral * 1e3 << " mm sideways";
+  EXPECT_LT(r.energyGain, 1e-6) << "energy grew by " << r.energyGain << " J";
+}
+
+// Settings that make 50 boxes stand: see docs/dynamics.md ("Tall stacks").
+TEST(Stack, FiftyBoxesStand) {
+  WorldDef def;
+  def.enableSleep = false;
+  def.substeps = 8;
+  def.relaxIterations = 16;
+  const StackRun r = runStack(50, def, 60.0, 8.0);
+  ASSERT_TRUE(r.finite);
+  EXPECT_LT(r.sink, 5e-3) << "top sank " << r.sink * 1e3 << " mm";
+  EXPECT_LT(r.drift, 1e-3) << "top drifted " << r.drift * 1e3 << " mm after settling";
+  EXPECT_LT(r.lateral, 1e-3) << "a box moved " << r.lateral * 1e3 << " mm sideways";
+  EXPECT_LT(r.energyGain, 1e-6) << "energy grew by " << r.energyGain << " J";
+}
+
+// With the default settings a 50-box stack may sag, but it never explodes or gains energy.
+TEST(Stack, FiftyBoxesWithDefaultsStayBoundedAndNeverGainEnergy) {
+  WorldDef def;
+  def.enableSleep = false;
+  const StackRun r = runStack(50, def, 60.0, 10.0);
+  ASSERT_TRUE(r.finite);
+  EXPECT_LT(r.energyGain, 1e-6) << "energy grew by " << r.energyGain << " J";
+  EXPECT_LT(r.sink, 50 * kSize) << "the stack fell through the ground";
+}
+
+namespace {
+
+struct MassRatioRun {
+  double overlap =
+      0.0;  // largest overlap of the two boxes, and of the bottom box with the ground (m)
+  double maxSpeed = 0.0;    // largest speed of either box after the first second (m/s)
+  double energyGain = 0.0;  // largest total energy above the start (J)
+  bool finite = true;
+};
+
+// A box of mass `top` resting on a box of mass `bottom` on the ground, for `seconds`.
+MassRatioRun runMassRatio(double bottom, double top, double seconds) {
+  WorldDef def;
+  def.enableSleep = false;
+  World w(def);
+  scenes::addGround(w);
+  const ShapePtr cube = Shape::box(Vec3::Constant(kSize / 2));
+  const BodyId low = addBody(w, cube, Vec3(0, kSize / 2, 0), bottom);
+  const BodyId high = addBody(w, cube, Vec3(0, 1.5 * kSize, 0), top);
+  const double e0 = totalEnergy(w);
+  MassRatioRun r;
+  for (int i = 0; i < std::lround(seconds * 60); ++i) {
+    w.step(1.0 / 60.0);
+    const double yl = w.pose(low).p.y(), yh = w.pose(high).p.y();
+    r.overlap = std::max({r.overlap, kSize / 2 - yl, kSize - (yh - yl)});
+    if (i >= 60) r.maxSpeed = std::max(r.maxSpeed, maxSpeed(w));
+    r.energyGain = std::max(r.energyGain, totalEnergy(w) - e0);
+    r.finite = r.finite && allFinite(w);
+  }
+  return r;
+}
+
+}  // namespace
+
+TEST(MassRatio, HeavyBoxOnLightBoxUpToFiveToOne) {
+  const MassRatioRun r = runMassRatio(1.0, 5.0, 10.0);
+  ASSERT_TRUE(r.finite);
+  EXPECT_LT(r.overlap, 5e-3) << "boxes overlap by " << r.overlap * 1e3 << " mm";
+  EXPECT_LT(r.maxSpeed, 1e-2) << "a box still moves at " << r.maxSpeed << " m/s";
+  EXPECT_LT(r.energyGain, 1e-6) << "energy grew by " << r.energyGain << " J";
+}
+
+// ENGINE BUG (found here): a heavy box resting on a light one sinks through it from a mass
+// ratio of about 10:1 (after ~3 s at 60 Hz, default WorldDef), and at 300:1 and above the
+// light box is shot up by kilometres (energy grows by ~1e5 J within a step). Measured with the
+// last relax pass's shock propagation switched off (a local experiment): 10:1 then holds
+// (0.9 mm overlap), 1000:1 still sinks through but nothing explodes, so the explosion comes
+// from shock propagation and the sinking from the Gauss-Seidel solve at this mass ratio.
+// More substeps/relax passes (8/8, 16/16) or 240 Hz do not fix it. Enable when fixed.
+TEST(MassRatio, DISABLED_HeavyBoxOnLightBoxDoesNotSinkThrough) {
+  const MassRatioRun r = runMassRatio(1.0, 1000.0, 10.0);
+  ASSERT_TRUE(r.finite);
+  EXPECT_LT(r.overlap, 5e-3) << "boxes overlap by " << r.overlap * 1e3 << " mm";
+  EXPECT_LT(r.maxSpeed, 1e-2) << "a box still moves at " << r.maxSpeed << " m/s";
+  // Energy is about 1000 kg * 9.81 * 0.15 m = 1.5 kJ: allow a millijoule of round-off.
+  EXPECT_LT(r.energyGain, 1e-3) << "energy grew by " << r.energyGain << " J";
+}
+
+TEST(MassRatio, LightBoxOnHeavyBoxRests) {
+  const MassRatioRun r = runMassRatio(1000.0, 1.0, 10.0);
+  ASSERT_TRUE(r.finite);
+  EXPECT_LT(r.overlap, 5e-3) << "boxes overlap by " << r.overlap * 1e3 << " mm";
+  EXPECT_LT(r.maxSpeed, 1e-2) << "a box still moves at " << r.maxSpeed << " m/s";
+  EXPECT_LT(r.energyGain, 1e-3) << "energy grew by " << r.energyGain << " J";
+}
+
+// ENGINE BUG: the same as above, the heavy box dropped from 0.5 m passes into the light one.
+TEST(MassRatio, DISABLED_HeavyBoxDroppedOnLightBoxStopsOnIt) {
+  // The heavy box falls 0.5 m onto the light one: it must come to rest on top, not pass through.
+  WorldDef def;
+  def.enableSleep = false;
+  World w(def);
+  scenes::addGround(w);
+  const ShapePtr cube = Shape::box(Vec3::Constant(kSize / 2));
+  const BodyId low = addBody(w, cube, Vec3(0, kSize / 2, 0), 1.0);
+  const BodyId high = addBody(w, cube, Vec3(0, 0.65, 0), 1000.0);
+  double lowest = 1e9;
+  for (int i = 0; i < 300; ++i) {
+    w.step(1.0 / 60.0);
+    ASSERT_TRUE(allFinite(w)) << "step " << i;
+    lowest = std::min(lowest, w.pose(high).p.y() - w.pose(low).p.y());
+  }
+  EXPECT_GT(lowest, kSize - 1e-2) << "heavy box sank " << (kSize - lowest) * 1e3
+                                  << " mm into the light one";
+  EXPECT_GT(w.pose(low).p.y(), kSize / 2 - 5e-3) << "light box pressed into the ground";
+  EXPECT_LT(maxSpeed(w), 1e-2);
+}
