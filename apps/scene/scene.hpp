@@ -70,6 +70,7 @@ struct CheckSpec {
   std::optional<Vec3> axis;         // Displacement: project on it; Angle: rotation about it
   std::array<std::optional<double>, 3> minVec{}, maxVec{};  // Position
   std::optional<double> min, max;   // everything else
+  double since = 0.0;  // Displacement, Angle: measured from the state at this time (s)
 };
 
 struct Scene {

@@ -416,7 +416,7 @@ int bodyByName(const json& j, const std::string& path, const Scene& s) {
 }
 
 CheckSpec parseCheck(const json& j, const std::string& path, const Scene& s) {
-  object(j, path, {"kind", "label", "body", "bodies", "except", "hand", "axis", "min", "max"});
+  object(j, path, {"kind", "label", "body", "bodies", "except", "hand", "axis", "min", "max", "since"});
   CheckSpec c;
   c.kind = static_cast<CheckKind>(choice(
       required(j, path, "kind"), key(path, "kind"),
@@ -450,6 +450,13 @@ CheckSpec parseCheck(const json& j, const std::string& path, const Scene& s) {
     c.bodies.push_back(bodyByName(required(j, path, "body"), key(path, "body"), s));
   }
   opt(j, path, "axis", [&](const json& v, const std::string& p) { c.axis = direction(v, p); });
+  opt(j, path, "since", [&](const json& v, const std::string& p) {
+    if (c.kind != CheckKind::Displacement && c.kind != CheckKind::Angle) {
+      fail(p, "applies to displacement and angle checks only");
+    }
+    c.since = nonNegative(v, p);
+    if (c.since >= s.duration) fail(p, "must be before the end of the run (duration)");
+  });
   if (c.kind == CheckKind::Angle && !c.axis) fail(key(path, "axis"), "is required for an angle check");
   for (const char* bound : {"min", "max"}) {
     if (!j.contains(bound)) continue;

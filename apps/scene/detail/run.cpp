@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <cerrno>
 #include <cstring>
+#include <limits>
 #include <map>
 #include <memory>
 #include <tuple>
@@ -315,12 +316,21 @@ RunResult run(const Scene& scene, const RunOptions& options) {
   }
 
   // Running measures.
+  // Reference states of the displacement and angle checks: at their `since` time.
+  std::vector<std::vector<Transform>> reference(scene.checks.size());
+  std::vector<std::vector<Vec3>> referenceCom(scene.checks.size());
+  auto takeReferences = [&](double t, double stepDt) {
+    for (size_t k = 0; k < scene.checks.size(); ++k) {
+      if (!reference[k].empty() || scene.checks[k].since > t + 0.5 * stepDt) continue;
+      for (BodyId id : ids) {
+        reference[k].push_back(world.pose(id));
+        referenceCom[k].push_back(world.centerOfMass(id));
+      }
+    }
+  };
+  takeReferences(0.0, dt);
   std::vector<Vec3> startCom;
-  std::vector<Quat> startQ;
-  for (BodyId id : ids) {
-    startCom.push_back(world.centerOfMass(id));
-    startQ.push_back(world.pose(id).q);
-  }
+  for (BodyId id : ids) startCom.push_back(world.centerOfMass(id));
   std::vector<double> lowest(ids.size());
   for (size_t i = 0; i < ids.size(); ++i) lowest[i] = startCom[i].y();
   const double energy0 = totalEnergy(world);
@@ -372,6 +382,7 @@ RunResult run(const Scene& scene, const RunOptions& options) {
       maxPenVisual = std::max(maxPenVisual, penetration(h, ix.visualPose(ci.hand), ci));
     }
     for (size_t i = 0; i < ids.size(); ++i) lowest[i] = std::min(lowest[i], world.centerOfMass(ids[i]).y());
+    takeReferences((step + 1) * dt, dt);
     energyMax = std::max(energyMax, totalEnergy(world));
     auto e = Clock::now();
     tMeasure += seconds(d, e);
@@ -464,7 +475,7 @@ RunResult run(const Scene& scene, const RunOptions& options) {
             break;
           }
           case CheckKind::Displacement: {
-            const Vec3 dpos = com - startCom[static_cast<size_t>(bi)];
+            const Vec3 dpos = com - referenceCom[ci][static_cast<size_t>(bi)];
             value = c.axis ? dpos.dot(*c.axis) : dpos.norm();
             break;
           }
@@ -475,7 +486,7 @@ RunResult run(const Scene& scene, const RunOptions& options) {
             value = lowest[static_cast<size_t>(bi)];
             break;
           case CheckKind::Angle:
-            value = twistAngle(startQ[static_cast<size_t>(bi)], world.pose(id).q, *c.axis) * 180.0 / kPi;
+            value = twistAngle(reference[ci][static_cast<size_t>(bi)].q, world.pose(id).q, *c.axis) * 180.0 / kPi;
             break;
           case CheckKind::HandContacts:
             break;
@@ -484,18 +495,25 @@ RunResult run(const Scene& scene, const RunOptions& options) {
           ok = within(value, c.min, c.max);
           detail = fmt(value);
         }
-        // Report the failing body, or for many bodies the extreme one.
-        const double extreme = c.max ? value : -value;
-        if (!ok || (r.passed && (firstBody || extreme > worst))) {
-          if (r.passed || !ok) {
-            worst = extreme;
-            worstName = bodyName(bi);
-            r.detail = detail;
-          }
+        // Report the body farthest outside (or nearest to leaving) the bounds.
+        double badness = -std::numeric_limits<double>::infinity();
+        auto worse = [&](double x, const std::optional<double>& lo, const std::optional<double>& hi) {
+          if (!std::isfinite(x)) badness = std::numeric_limits<double>::infinity();
+          if (lo) badness = std::max(badness, *lo - x);
+          if (hi) badness = std::max(badness, x - *hi);
+        };
+        if (c.kind == CheckKind::Position) {
+          for (size_t k = 0; k < 3; ++k) worse(com[static_cast<int>(k)], c.minVec[k], c.maxVec[k]);
+        } else {
+          worse(value, c.min, c.max);
+        }
+        if (firstBody || badness > worst) {
+          worst = badness;
+          worstName = bodyName(bi);
+          r.detail = detail;
         }
         firstBody = false;
         if (!ok) r.passed = false;
-        if (!ok) break;
       }
       if (c.kind == CheckKind::Position) {
         std::string want;
