@@ -15,6 +15,15 @@ BodyId addBox(World& w, const Vec3& halfExtents, double mass, const Vec3& positi
               const Quat& orientation = Quat::Identity(), double staticFriction = 0.6,
               double dynamicFriction = 0.5);
 
+// A Jenga-like tower on the floor: `layers` layers of 3 blocks (7.5 x 1.5 x 2.5 cm, 14 g, wood
+// on wood mu_s 0.4, mu_d 0.35), each layer crossed with the one below; the even layers run along
+// x. blocks[3 * layer + k], k = 0..2 from -z (or -x) to +z (or +x).
+struct Tower {
+  std::vector<BodyId> blocks;
+  Vec3 blockHalfExtents;  // of an x-running block
+};
+Tower addTower(World& w, int layers);
+
 // A hand pose whose bones are all far away from any scene (y = 10 m): start from it and place
 // only the bones a test needs.
 HandPose parkedHand(const HandDef& def, const Vec3& where = Vec3(0.0, 10.0, 0.0));

@@ -2,7 +2,7 @@
 # Installs the Debian 12 packages grip needs, only those that are missing. Run as root.
 set -euo pipefail
 packages=(
-  build-essential cmake ninja-build pkg-config git clang
+  build-essential cmake ninja-build pkg-config git clang libclang-rt-14-dev
   libeigen3-dev libccd-dev            # runtime: math and convex collision
   libcgal-dev libopenvdb-dev          # offline mesh preprocessing (voxel/)
   libcgal-demo                        # third-party test meshes (elephant, bunny, ...)

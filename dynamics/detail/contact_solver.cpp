@@ -130,7 +130,8 @@ void solveNormal(SolverManifold& m, SolverBody& A, SolverBody& B, const SolveCon
   const Softness& soft = (m.a == 0 || m.b == 0) ? ctx.staticSoft : ctx.soft;
   const Vec3 dp = B.dp - A.dp;
   double vn[4], bias[4], massScale[4], impulseScale[4], mass[4], delta[4] = {0, 0, 0, 0};
-  double K[4][4];
+  double oneSided[4][4];
+  const double(*K)[4] = moves == Moves::Both ? m.K : oneSided;
   for (int k = 0; k < m.count; ++k) {
     const SolverRow& r = m.p[k].normal;
     // Current separation, linearised in the bodies' motion since the step began.
@@ -147,11 +148,11 @@ void solveNormal(SolverManifold& m, SolverBody& A, SolverBody& B, const SolveCon
     }
     vn[k] = rowVelocity(A, B, r);
     mass[k] = rowMass(A, B, r, moves);
+    if (moves == Moves::Both) continue;
     for (int j = 0; j < m.count; ++j) {
       const SolverRow& q = m.p[j].normal;
-      K[k][j] = moves == Moves::Both    ? m.K[k][j]
-                : moves == Moves::OnlyA ? A.invMass + q.angA.dot(r.dwA)
-                                        : B.invMass + q.angB.dot(r.dwB);
+      oneSided[k][j] = moves == Moves::OnlyA ? A.invMass + q.angA.dot(r.dwA)
+                                             : B.invMass + q.angB.dot(r.dwB);
     }
   }
   const int sweeps = m.count > 1 ? ctx.manifoldSweeps : 1;

@@ -111,6 +111,8 @@ struct Interaction::Impl {
   std::vector<HandContactEvent> beginEvents, endEvents;
   std::vector<std::pair<BodyId, Vec3>> applied;  // per touched body, sorted
   InteractionStats stats;
+  std::vector<BodyId> dynamicBodies;  // cached; refreshed when bodies come or go
+  std::vector<BodyId> bodyScratch;
   // Scratch, reused every update so the hot path does not allocate.
   std::vector<OverlapHit> hits;
   std::vector<SpringPoint> springs;
@@ -168,6 +170,8 @@ struct Interaction::Impl {
   void takeFrames(double dt);
   void dropDeadContacts(const World& w);
   void findContacts(const World& w);
+  void refreshDynamicBodies(const World& w);
+  bool keepPressingContact(const World& w, uint32_t hand, int bone, double reach);
   void placeContactPoints(const World& w);
   void applyFrictionForces(World& w, double dt);
   void updateAttachments(World& w);
@@ -234,10 +238,12 @@ void Interaction::Impl::dropDeadContacts(const World& w) {
 void Interaction::Impl::findContacts(const World& w) {
   for (Contact& c : contacts) c.seen = false;
   const double reach = def.contactOffset + def.releaseMargin;
+  refreshDynamicBodies(w);
   for (uint32_t hi = 0; hi < hands.size(); ++hi) {
     const Hand& h = hands[hi];
     if (!h.alive || !h.active) continue;
     for (int bone = 0; bone < kBonesPerHand; ++bone) {
+      if (keepPressingContact(w, hi, bone, reach)) continue;
       hits.clear();
       w.overlap(*h.shapes.bones[bone], h.tracked.bones[bone], reach, hits);
       for (size_t i = 0; i < hits.size(); ++i) {
@@ -296,6 +302,41 @@ void Interaction::Impl::findContacts(const World& w) {
     if (!c.seen) endContact(c);
   }
   std::erase_if(contacts, [](const Contact& c) { return !c.seen; });
+}
+
+// The dynamic bodies of the world, cached: World::bodies() returns a new vector, so it is only
+// called when the cached list is stale (a body count change or a cached id gone).
+void Interaction::Impl::refreshDynamicBodies(const World& w) {
+  bool stale = bodyScratch.size() != static_cast<size_t>(w.bodyCount());
+  for (size_t i = 0; !stale && i < bodyScratch.size(); ++i) stale = !w.isValid(bodyScratch[i]);
+  if (!stale) return;
+  bodyScratch = w.bodies();
+  dynamicBodies.clear();
+  for (BodyId b : bodyScratch) {
+    if (w.bodyType(b) == BodyType::Dynamic) dynamicBodies.push_back(b);
+  }
+}
+
+// A bone pressing into a body, with no other dynamic body's bounds near it, needs no overlap
+// query this step: it is inside the body it presses (the patch lets go when the press turns
+// tensile, and the next query then decides whether the contact ends). The narrowphase query is
+// most of the cost of a firm grasp; this skips it exactly when it cannot find anything new.
+bool Interaction::Impl::keepPressingContact(const World& w, uint32_t hand, int bone,
+                                            double reach) {
+  Contact* pressing = nullptr;
+  for (Contact& c : contacts) {
+    if (c.hand != hand || c.bone != bone) continue;
+    if (!c.anchored || c.passive || pressing) return false;  // not pressing, or two bodies
+    pressing = &c;
+  }
+  if (!pressing) return false;
+  const Hand& h = hands[hand];
+  const Aabb box = h.shapes.bones[bone]->bounds(h.tracked.bones[bone]).inflated(reach);
+  for (BodyId b : dynamicBodies) {
+    if (b != pressing->body && w.bounds(b).overlaps(box)) return false;
+  }
+  pressing->seen = true;
+  return true;
 }
 
 // The thesis's contact point (3.5.2, 3.7): a ray from the bone's near point toward the centre
@@ -429,6 +470,7 @@ void Interaction::Impl::applyFrictionForces(World& w, double dt) {
     while (last < contacts.size() && contacts[last].body == bodyId) ++last;
 
     const Transform body = w.pose(bodyId);
+    const Mat3 bodyR = body.q.toRotationMatrix();  // one matrix for all the body's samples
     springs.clear();
     springNormal.clear();
     const double gamma = gammaFor(w, bodyId);
@@ -438,10 +480,12 @@ void Interaction::Impl::applyFrictionForces(World& w, double dt) {
       c.slipping = false;
       if (!c.anchored || c.passive) continue;
       const Transform& bone = hands[c.hand].tracked.bones[c.bone];
+      const Mat3 boneR = bone.q.toRotationMatrix();
       const double k = gamma / c.sampleCount;
       for (int s = 0; s < c.sampleCount; ++s) {
-        springs.push_back({body.apply(c.samples[s].cLocal), bone.apply(c.samples[s].pBone), k});
-        springNormal.push_back(body.rotate(c.samples[s].nLocal));
+        springs.push_back(
+            {bodyR * c.samples[s].cLocal + body.p, boneR * c.samples[s].pBone + bone.p, k});
+        springNormal.push_back(bodyR * c.samples[s].nLocal);
       }
     }
     if (springs.empty()) {
@@ -467,7 +511,7 @@ void Interaction::Impl::applyFrictionForces(World& w, double dt) {
       for (int si = 0; si < c.sampleCount; ++si, ++j) {
         const SpringPoint& sp = springs[j];
         Sample& s = c.samples[si];
-        const Vec3 n = body.rotate(s.nLocal);
+        const Vec3& n = springNormal[j];
         const Vec3 stretch = sp.target - sp.anchor;
         depth -= stretch.dot(n);
         if (stretch.dot(n) < 0.0) springEnergy += 0.5 * sp.stiffness * stretch.squaredNorm();
@@ -719,7 +763,9 @@ void Interaction::update(World& world, double dt) {
   m.dropDeadContacts(world);
   m.findContacts(world);
   m.placeContactPoints(world);
-  std::sort(m.contacts.begin(), m.contacts.end(), contactLess);
+  if (!std::is_sorted(m.contacts.begin(), m.contacts.end(), contactLess)) {
+    std::sort(m.contacts.begin(), m.contacts.end(), contactLess);
+  }
   if (m.def.method == InteractionMethod::Kinematic) {
     m.updateAttachments(world);
   } else {

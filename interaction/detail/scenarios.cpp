@@ -27,6 +27,22 @@ BodyId addBox(World& w, const Vec3& halfExtents, double mass, const Vec3& positi
   return w.createBody(d);
 }
 
+Tower addTower(World& w, int layers) {
+  const double len = 0.075, height = 0.015, width = 0.025, mass = 0.014;
+  Tower t;
+  t.blockHalfExtents = Vec3(0.5 * len, 0.5 * height, 0.5 * width);
+  for (int layer = 0; layer < layers; ++layer) {
+    const double y = 0.5 * height + layer * height;
+    const bool alongX = layer % 2 == 0;
+    for (int k = -1; k <= 1; ++k) {
+      const Vec3 half = alongX ? t.blockHalfExtents : Vec3(0.5 * width, 0.5 * height, 0.5 * len);
+      const Vec3 at = alongX ? Vec3(0.0, y, k * width) : Vec3(k * width, y, 0.0);
+      t.blocks.push_back(addBox(w, half, mass, at, Quat::Identity(), 0.4, 0.35));
+    }
+  }
+  return t;
+}
+
 HandPose parkedHand(const HandDef& def, const Vec3& where) {
   Transform palm;
   palm.p = where;
