@@ -3,6 +3,7 @@
 // scenario builders (pinch = scenarios::pinchCube, press = scenarios::pressBone).
 #include <cmath>
 
+#include "interaction/scenarios.hpp"
 #include "scene/scene.hpp"
 
 namespace grip::scene {
@@ -128,33 +129,47 @@ json handover() {
   return s;
 }
 
+// The bodies of a scene built by one of the interaction module's scenario builders, read back from
+// a scratch World, so that the scene file and the builder cannot drift apart.
+json bodiesOf(const World& w, const std::vector<BodyId>& ids, const std::vector<std::string>& names) {
+  json out = json::array();
+  for (size_t i = 0; i < ids.size(); ++i) {
+    const Shape& sh = w.shape(ids[i]);
+    const Transform t = w.pose(ids[i]);
+    const MaterialDef& m = w.material(ids[i]);
+    out.push_back({{"name", names[i]},
+                   {"shape", {{"type", "box"}, {"halfExtents", v3(sh.halfExtents().x(), sh.halfExtents().y(), sh.halfExtents().z())}}},
+                   {"position", v3(t.p.x(), t.p.y(), t.p.z())},
+                   {"orientation", {t.q.w(), t.q.x(), t.q.y(), t.q.z()}},
+                   {"mass", w.mass(ids[i])},
+                   {"material", {{"staticFriction", m.staticFriction}, {"dynamicFriction", m.dynamicFriction}}}});
+  }
+  return out;
+}
+
 json jenga() {
   json s = base("jenga",
                 "A slim fingertip pushes the middle block of the third layer of a 6-layer Jenga "
                 "tower 4.5 cm out; the rest of the tower stands (thesis 4: pull blocks out of a "
                 "Jenga tower).",
                 3.5);
-  s["materials"] = {{"wood", {{"staticFriction", 0.4}, {"dynamicFriction", 0.35}}}};
-  const double len = 0.075, height = 0.015, width = 0.025, mass = 0.014;
-  json bodies = {floorBody()};
-  for (int layer = 0; layer < 6; ++layer) {
-    const double y = 0.5 * height + layer * height;
-    for (int k = -1; k <= 1; ++k) {
-      const bool alongX = layer % 2 == 0;
-      const std::string name = layer == 2 && k == 0 ? "target" : "block" + std::to_string(layer) + "_" + std::to_string(k + 1);
-      json b = alongX ? boxBody(name.c_str(), 0.5 * len, 0.5 * height, 0.5 * width, mass, Vec3(0, y, k * width))
-                      : boxBody(name.c_str(), 0.5 * width, 0.5 * height, 0.5 * len, mass, Vec3(k * width, y, 0));
-      b["material"] = "wood";
-      bodies.push_back(b);
-    }
+  World scratch;
+  const scenarios::Tower tower = scenarios::addTower(scratch, 6);
+  std::vector<std::string> names;
+  for (size_t i = 0; i < tower.blocks.size(); ++i) {
+    names.push_back(i == 7 ? "target" : "block" + std::to_string(i / 3) + "_" + std::to_string(i % 3));
   }
+  json bodies = json::array({floorBody()});
+  for (json& b : bodiesOf(scratch, tower.blocks, names)) bodies.push_back(b);
   s["bodies"] = bodies;
-  // The tip of a 0.8-scale index finger, pointing -x into the end face of the target block.
+  // The tip of a 0.7-scale index finger (11 mm thick, for the 15 mm slot), pointing -x into the
+  // end face of the target block.
   HandDef hd;
-  hd.scale = 0.8;
+  hd.scale = 0.7;
   const double r = hd.scale * hd.fingers[1].radius[2];
   const double axisHalf = 0.5 * hd.scale * hd.fingers[1].length[2] - 0.5 * r;
-  const Vec3 face(0.5 * len + axisHalf, 0.5 * height + 2 * height, 0), n(1, 0, 0), axis(-1, 0, 0);
+  const Vec3 target = scratch.pose(tower.blocks[7]).p;
+  const Vec3 face(tower.blockHalfExtents.x() + axisHalf, target.y(), target.z()), n(1, 0, 0), axis(-1, 0, 0);
   auto tip = [&](double t, double depth) { return pressKey(t, {press("index_distal", face, n, axis, depth)}); };
   const double travel = 0.045, speed = 0.03;
   s["hands"] = {{{"name", "right"},
