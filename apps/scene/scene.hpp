@@ -45,7 +45,9 @@ struct KeySpec {
   double time = 0.0;
   std::optional<Transform> palm;  // a posed hand: palm frame + grasp pose
   GraspPose pose = GraspPose::Open;
-  Vec3 park = Vec3(0.0, 10.0, 0.0);  // otherwise: bones parked here, then pinch/press
+  // Otherwise the hand is parked here (default: 10 m above the pinch centre or the mean pressed
+  // point, so that the palm moves with the fingers), then pinch/press bones are placed.
+  std::optional<Vec3> park;
   std::optional<PinchSpec> pinch;
   std::vector<BonePress> press;
   bool tracked = true;

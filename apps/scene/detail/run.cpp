@@ -81,10 +81,18 @@ class HandScript {
     HandPose p;
     if (k.palm) {
       p = poseHand(d, *k.palm, handShape(k.pose));
-    } else if (k.pinch) {
-      p = scenarios::pinchCube(d, k.pinch->center, k.pinch->halfWidth, k.pinch->depth);
     } else {
-      p = scenarios::parkedHand(d, k.park);
+      Vec3 anchor = Vec3::Zero();
+      if (k.pinch) {
+        anchor = k.pinch->center;
+      } else {
+        for (const BonePress& b : k.press) anchor += b.point / static_cast<double>(k.press.size());
+      }
+      p = scenarios::parkedHand(d, k.park ? *k.park : anchor + Vec3(0.0, 10.0, 0.0));
+      if (k.pinch) {
+        const HandPose pinch = scenarios::pinchCube(d, k.pinch->center, k.pinch->halfWidth, k.pinch->depth);
+        for (Finger f : {Finger::Thumb, Finger::Index}) p.bones[boneIndex(f, 2)] = pinch.bones[boneIndex(f, 2)];
+      }
     }
     for (const BonePress& b : k.press) scenarios::pressBone(p, d, b.bone, b.point, b.normal, b.axis, b.depth);
     p.tracked = k.tracked;
