@@ -43,7 +43,8 @@ int runScene(const RunArgs& a) {
   nlohmann::json doc = loadDocument(a.scene);
   for (const std::string& s : a.sets) scene::applyOverride(doc, s);
   if (!a.method.empty()) {
-    if (!doc.contains("interaction") || !doc["interaction"].is_object()) doc["interaction"] = nlohmann::json::object();
+    if (!doc.contains("interaction") || !doc["interaction"].is_object())
+      doc["interaction"] = nlohmann::json::object();
     doc["interaction"]["method"] = a.method;
   }
   const scene::Scene sc = scene::parseScene(doc);
@@ -55,14 +56,17 @@ int runScene(const RunArgs& a) {
 
   const nlohmann::json& m = r.metrics;
   if (!a.quiet) {
-    std::printf("%s: %d steps, %.2f s simulated in %.3f s (%.0fx real time), method %s\n", sc.name.c_str(),
-                r.steps, r.simulatedTime, m["wallTime"].get<double>(), m["realtimeFactor"].get<double>(),
-                m["method"].get<std::string>().c_str());
+    std::printf("%s: %d steps, %.2f s simulated in %.3f s (%.0fx real time), method %s\n",
+                sc.name.c_str(), r.steps, r.simulatedTime, m["wallTime"].get<double>(),
+                m["realtimeFactor"].get<double>(), m["method"].get<std::string>().c_str());
     const nlohmann::json& h = m["hands"];
     if (!sc.hands.empty()) {
-      std::printf("hands: %lld contacts begun, %lld slip onsets, max penetration %.1f mm tracked / %.1f mm visual\n",
-                  h["contactsBegun"].get<long long>(), h["slipOnsets"].get<long long>(),
-                  1000.0 * h["maxPenetrationTracked"].get<double>(), 1000.0 * h["maxPenetrationVisual"].get<double>());
+      std::printf(
+          "hands: %lld contacts begun, %lld slip onsets, max penetration %.1f mm tracked / %.1f mm "
+          "visual\n",
+          h["contactsBegun"].get<long long>(), h["slipOnsets"].get<long long>(),
+          1000.0 * h["maxPenetrationTracked"].get<double>(),
+          1000.0 * h["maxPenetrationVisual"].get<double>());
     }
     for (const scene::CheckResult& c : r.checks) {
       std::printf("  %s  %s: %s\n", c.passed ? "PASS" : "FAIL", c.label.c_str(), c.detail.c_str());
@@ -73,9 +77,10 @@ int runScene(const RunArgs& a) {
   }
   std::printf("state hash %s\n", m["stateHash"].get<std::string>().c_str());
   if (!r.allPassed()) {
-    std::fprintf(stderr, "grip: %s: %zu check(s) failed\n", sc.name.c_str(),
-                 static_cast<size_t>(std::count_if(r.checks.begin(), r.checks.end(),
-                                                   [](const scene::CheckResult& c) { return !c.passed; })));
+    std::fprintf(
+        stderr, "grip: %s: %zu check(s) failed\n", sc.name.c_str(),
+        static_cast<size_t>(std::count_if(r.checks.begin(), r.checks.end(),
+                                          [](const scene::CheckResult& c) { return !c.passed; })));
     return 3;
   }
   return 0;
@@ -88,9 +93,11 @@ Command addRunCommand(CLI::App& app) {
   auto a = std::make_shared<RunArgs>();
   sub->add_option("scene", a->scene, "a scene file (JSON) or a built-in scene name")->required();
   sub->add_option("--out", a->out, "write recording.jsonl and metrics.json into this directory");
-  sub->add_option("--method", a->method, "hand interaction method")->check(CLI::IsMember({"coulomb", "kinematic"}));
+  sub->add_option("--method", a->method, "hand interaction method")
+      ->check(CLI::IsMember({"coulomb", "kinematic"}));
   sub->add_option("--set", a->sets, "override a scene value: KEY=VALUE, e.g. world.substeps=8");
-  sub->add_option("--record-every", a->recordEvery, "record every n-th step")->check(CLI::Range(1, 1000000));
+  sub->add_option("--record-every", a->recordEvery, "record every n-th step")
+      ->check(CLI::Range(1, 1000000));
   sub->add_flag("--quiet,-q", a->quiet, "print only the state hash (and errors)");
   return {sub, [a] { return runScene(*a); }};
 }

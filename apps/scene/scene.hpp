@@ -66,12 +66,12 @@ enum class CheckKind : uint8_t { Position, Displacement, Speed, LowestHeight, Ha
 // An expected outcome, evaluated at the end of a run (LowestHeight: over the whole run).
 struct CheckSpec {
   CheckKind kind = CheckKind::Position;
-  std::string label;                // printed; defaults to a description of the check
-  std::vector<int> bodies;          // indices into Scene::bodies
-  int hand = -1;                    // HandContacts
-  std::optional<Vec3> axis;         // Displacement: project on it; Angle: rotation about it
+  std::string label;         // printed; defaults to a description of the check
+  std::vector<int> bodies;   // indices into Scene::bodies
+  int hand = -1;             // HandContacts
+  std::optional<Vec3> axis;  // Displacement: project on it; Angle: rotation about it
   std::array<std::optional<double>, 3> minVec{}, maxVec{};  // Position
-  std::optional<double> min, max;   // everything else
+  std::optional<double> min, max;                           // everything else
   double since = 0.0;  // Displacement, Angle: measured from the state at this time (s)
 };
 
@@ -121,8 +121,8 @@ struct CheckResult {
 };
 
 struct RunOptions {
-  std::string outDir;  // empty: no recording or metrics files
-  int recordEvery = 1;  // record every n-th frame
+  std::string outDir;                                 // empty: no recording or metrics files
+  int recordEvery = 1;                                // record every n-th frame
   std::function<void(int step, int steps)> progress;  // called now and then
 };
 

@@ -54,8 +54,9 @@ TEST(SceneParse, AValidSceneFillsTheDefs) {
   EXPECT_EQ(s.bodies[0].def.type, BodyType::Static);
   EXPECT_DOUBLE_EQ(s.bodies[1].def.material.staticFriction, 0.4);
   EXPECT_DOUBLE_EQ(s.bodies[1].def.material.density, 600.0);
-  EXPECT_NEAR(s.bodies[1].def.orientation.angularDistance(Quat(Eigen::AngleAxisd(kPi / 2, Vec3::UnitY()))), 0.0,
-              1e-12);
+  EXPECT_NEAR(
+      s.bodies[1].def.orientation.angularDistance(Quat(Eigen::AngleAxisd(kPi / 2, Vec3::UnitY()))),
+      0.0, 1e-12);
   EXPECT_DOUBLE_EQ(s.bodies[2].def.mass, 2.0);
   EXPECT_EQ(s.bodies[2].def.linearVelocity, Vec3(1, 0, 0));
   EXPECT_EQ(s.interaction.method, InteractionMethod::Kinematic);
@@ -131,10 +132,12 @@ TEST(SceneParse, BadOverridesAreRefused) {
     }
     return "";
   };
-  EXPECT_EQ(err("world.substeps"), "--set world.substeps: expected KEY=VALUE, e.g. world.substeps=8");
+  EXPECT_EQ(err("world.substeps"),
+            "--set world.substeps: expected KEY=VALUE, e.g. world.substeps=8");
   EXPECT_EQ(err("=3"), "--set =3: expected KEY=VALUE, e.g. world.substeps=8");
   EXPECT_EQ(err("bodies[9].mass=1"), "--set bodies[9].mass: bodies has 5 elements, no index 9");
-  EXPECT_EQ(err("bodies.x.mass=1"), "--set bodies.x.mass: bodies is an array: expected an index, got \"x\"");
+  EXPECT_EQ(err("bodies.x.mass=1"),
+            "--set bodies.x.mass: bodies is an array: expected an index, got \"x\"");
   EXPECT_EQ(err("nothing.here=1"), "--set nothing.here: nothing does not exist");
   EXPECT_EQ(err("duration.x=1"), "--set duration.x: duration is not an object or array");
   // An unknown final key is caught by the parser, with its path.

@@ -105,7 +105,8 @@ TEST(SceneRun, TheRecordingIsCompleteAndParseable) {
   EXPECT_EQ(m["passed"], true);
   EXPECT_GT(m["hands"]["maxPenetrationTracked"].get<double>(), 0.0);
   EXPECT_LT(m["hands"]["maxPenetrationTracked"].get<double>(), 0.01);
-  for (const char* k : {"hands", "interaction", "step", "record"}) EXPECT_TRUE(m["timings"].contains(k));
+  for (const char* k : {"hands", "interaction", "step", "record"})
+    EXPECT_TRUE(m["timings"].contains(k));
   fs::remove_all(dir);
 }
 

@@ -25,9 +25,13 @@ json v3(double x, double y, double z) {
 }
 
 json base(const char* name, const char* description, double duration) {
-  return {{"grip_scene", kSceneVersion}, {"name", name}, {"description", description},
+  return {{"grip_scene", kSceneVersion},
+          {"name", name},
+          {"description", description},
           {"world", {{"gravity", v3(0, -kG, 0)}, {"hz", 60}, {"substeps", 4}}},
-          {"duration", duration}, {"seed", 1}, {"interaction", {{"method", "coulomb"}}}};
+          {"duration", duration},
+          {"seed", 1},
+          {"interaction", {{"method", "coulomb"}}}};
 }
 
 json floorBody(double mus = 0.6, double mud = 0.5) {
@@ -45,12 +49,16 @@ json boxBody(const char* name, double hx, double hy, double hz, double mass, con
 }
 
 json pinchKey(double t, const Vec3& c, double half, double depth) {
-  return {{"time", t}, {"pinch", {{"center", v3(c.x(), c.y(), c.z())}, {"halfWidth", half}, {"depth", depth}}}};
+  return {{"time", t},
+          {"pinch", {{"center", v3(c.x(), c.y(), c.z())}, {"halfWidth", half}, {"depth", depth}}}};
 }
 
 json press(const char* bone, const Vec3& p, const Vec3& n, const Vec3& axis, double depth) {
-  return {{"bone", bone}, {"point", v3(p.x(), p.y(), p.z())}, {"normal", v3(n.x(), n.y(), n.z())},
-          {"axis", v3(axis.x(), axis.y(), axis.z())}, {"depth", depth}};
+  return {{"bone", bone},
+          {"point", v3(p.x(), p.y(), p.z())},
+          {"normal", v3(n.x(), n.y(), n.z())},
+          {"axis", v3(axis.x(), axis.y(), axis.z())},
+          {"depth", depth}};
 }
 
 json pressKey(double t, json presses, const Vec3& park = Vec3(0, 10, 0)) {
@@ -60,10 +68,11 @@ json pressKey(double t, json presses, const Vec3& park = Vec3(0, 10, 0)) {
 // ---- the scenes ---------------------------------------------------------------------------------
 
 json graspLift() {
-  json s = base("grasp_lift",
-                "Thumb and index pinch a 0.1 kg cube on the floor and lift it 10 cm (thesis 4: grasp "
-                "and lift a cube).",
-                2.5);
+  json s =
+      base("grasp_lift",
+           "Thumb and index pinch a 0.1 kg cube on the floor and lift it 10 cm (thesis 4: grasp "
+           "and lift a cube).",
+           2.5);
   const double half = 0.03, mass = 0.1, depth = 1.5 * holdDepth(mass);
   const Vec3 c(0, half, 0), up(0, 0.1, 0);
   s["bodies"] = {floorBody(), boxBody("cube", half, half, half, mass, c)};
@@ -71,15 +80,22 @@ json graspLift() {
                  {"keyframes",
                   {pinchKey(0.0, c, half, -0.002), pinchKey(0.25, c, half, depth),
                    pinchKey(1.25, c + up, half, depth), pinchKey(2.5, c + up, half, depth)}}}};
-  s["checks"] = {{{"label", "the cube is held 10 cm up"}, {"kind", "position"}, {"body", "cube"},
-                  {"min", {nullptr, c.y() + 0.09, nullptr}}, {"max", {nullptr, c.y() + 0.105, nullptr}}},
-                 {{"label", "the cube is at rest in the grasp"}, {"kind", "speed"}, {"body", "cube"}, {"max", 0.02}}};
+  s["checks"] = {{{"label", "the cube is held 10 cm up"},
+                  {"kind", "position"},
+                  {"body", "cube"},
+                  {"min", {nullptr, c.y() + 0.09, nullptr}},
+                  {"max", {nullptr, c.y() + 0.105, nullptr}}},
+                 {{"label", "the cube is at rest in the grasp"},
+                  {"kind", "speed"},
+                  {"body", "cube"},
+                  {"max", 0.02}}};
   return s;
 }
 
 json pushBox() {
-  json s = base("push_box",
-                "One fingertip pushes a 1 kg box 20 cm along a floor (mu 0.5/0.4) at 0.1 m/s.", 3.5);
+  json s =
+      base("push_box",
+           "One fingertip pushes a 1 kg box 20 cm along a floor (mu 0.5/0.4) at 0.1 m/s.", 3.5);
   s["materials"] = {{"floor", {{"staticFriction", 0.5}, {"dynamicFriction", 0.4}}}};
   json box = boxBody("box", 0.05, 0.05, 0.05, 1.0, Vec3(0, 0.05, 0));
   box["material"] = "floor";
@@ -92,12 +108,20 @@ json pushBox() {
     return pressKey(t, {press("index_distal", Vec3(-0.05 + x, 0.05, 0), n, axis, depth)});
   };
   s["hands"] = {{{"name", "right"},
-                 {"keyframes", {at(0.0, 0.0, -0.002), at(0.5, 0.0, 0.006), at(2.5, 0.2, 0.006),
-                                at(3.0, 0.2, 0.006), at(3.2, 0.2, -0.02)}}}};
-  s["checks"] = {{{"label", "the box slid at least 17 cm along +x"}, {"kind", "displacement"}, {"body", "box"},
-                  {"axis", v3(1, 0, 0)}, {"min", 0.17}, {"max", 0.21}},
-                 {{"label", "the box stayed upright and on its line"}, {"kind", "position"}, {"body", "box"},
-                  {"min", {nullptr, 0.047, -0.01}}, {"max", {nullptr, 0.053, 0.01}}}};
+                 {"keyframes",
+                  {at(0.0, 0.0, -0.002), at(0.5, 0.0, 0.006), at(2.5, 0.2, 0.006),
+                   at(3.0, 0.2, 0.006), at(3.2, 0.2, -0.02)}}}};
+  s["checks"] = {{{"label", "the box slid at least 17 cm along +x"},
+                  {"kind", "displacement"},
+                  {"body", "box"},
+                  {"axis", v3(1, 0, 0)},
+                  {"min", 0.17},
+                  {"max", 0.21}},
+                 {{"label", "the box stayed upright and on its line"},
+                  {"kind", "position"},
+                  {"body", "box"},
+                  {"min", {nullptr, 0.047, -0.01}},
+                  {"max", {nullptr, 0.053, 0.01}}}};
   return s;
 }
 
@@ -112,37 +136,48 @@ json handover() {
   const Vec3 z(0, 0, 1), x(1, 0, 0), park(0, 10, 1);
   auto left = [&](double t, double d) {
     return pressKey(t,
-                    {press("thumb_distal", c - half * z, -z, x, d), press("index_distal", c + half * z, z, x, d)},
+                    {press("thumb_distal", c - half * z, -z, x, d),
+                     press("index_distal", c + half * z, z, x, d)},
                     park);
   };
-  s["hands"] = {{{"name", "right"},
-                 {"keyframes", {pinchKey(0.0, c, half, depth), pinchKey(1.0, c, half, depth),
-                                pinchKey(1.1, c, half, -0.02), pinchKey(2.0, c, half, -0.02)}}},
-                {{"name", "left"},
-                 {"side", "left"},
-                 {"keyframes", {left(0.0, -0.004), left(0.5, -0.004), left(0.6, depth), left(2.0, depth)}}}};
-  s["checks"] = {{{"label", "the cube never dropped more than 1 cm"}, {"kind", "lowestHeight"}, {"body", "cube"},
-                  {"min", c.y() - 0.01}},
-                 {{"label", "the right hand let go"}, {"kind", "handContacts"}, {"hand", "right"}, {"max", 0}},
-                 {{"label", "the left hand holds it"}, {"kind", "handContacts"}, {"hand", "left"}, {"min", 2}},
-                 {{"label", "the cube is at rest"}, {"kind", "speed"}, {"body", "cube"}, {"max", 0.01}}};
+  s["hands"] = {
+      {{"name", "right"},
+       {"keyframes",
+        {pinchKey(0.0, c, half, depth), pinchKey(1.0, c, half, depth),
+         pinchKey(1.1, c, half, -0.02), pinchKey(2.0, c, half, -0.02)}}},
+      {{"name", "left"},
+       {"side", "left"},
+       {"keyframes", {left(0.0, -0.004), left(0.5, -0.004), left(0.6, depth), left(2.0, depth)}}}};
+  s["checks"] = {
+      {{"label", "the cube never dropped more than 1 cm"},
+       {"kind", "lowestHeight"},
+       {"body", "cube"},
+       {"min", c.y() - 0.01}},
+      {{"label", "the right hand let go"}, {"kind", "handContacts"}, {"hand", "right"}, {"max", 0}},
+      {{"label", "the left hand holds it"}, {"kind", "handContacts"}, {"hand", "left"}, {"min", 2}},
+      {{"label", "the cube is at rest"}, {"kind", "speed"}, {"body", "cube"}, {"max", 0.01}}};
   return s;
 }
 
 // The bodies of a scene built by one of the interaction module's scenario builders, read back from
 // a scratch World, so that the scene file and the builder cannot drift apart.
-json bodiesOf(const World& w, const std::vector<BodyId>& ids, const std::vector<std::string>& names) {
+json bodiesOf(const World& w, const std::vector<BodyId>& ids,
+              const std::vector<std::string>& names) {
   json out = json::array();
   for (size_t i = 0; i < ids.size(); ++i) {
     const Shape& sh = w.shape(ids[i]);
     const Transform t = w.pose(ids[i]);
     const MaterialDef& m = w.material(ids[i]);
-    out.push_back({{"name", names[i]},
-                   {"shape", {{"type", "box"}, {"halfExtents", v3(sh.halfExtents().x(), sh.halfExtents().y(), sh.halfExtents().z())}}},
-                   {"position", v3(t.p.x(), t.p.y(), t.p.z())},
-                   {"orientation", {t.q.w(), t.q.x(), t.q.y(), t.q.z()}},
-                   {"mass", w.mass(ids[i])},
-                   {"material", {{"staticFriction", m.staticFriction}, {"dynamicFriction", m.dynamicFriction}}}});
+    out.push_back(
+        {{"name", names[i]},
+         {"shape",
+          {{"type", "box"},
+           {"halfExtents", v3(sh.halfExtents().x(), sh.halfExtents().y(), sh.halfExtents().z())}}},
+         {"position", v3(t.p.x(), t.p.y(), t.p.z())},
+         {"orientation", {t.q.w(), t.q.x(), t.q.y(), t.q.z()}},
+         {"mass", w.mass(ids[i])},
+         {"material",
+          {{"staticFriction", m.staticFriction}, {"dynamicFriction", m.dynamicFriction}}}});
   }
   return out;
 }
@@ -157,7 +192,8 @@ json jenga() {
   const scenarios::Tower tower = scenarios::addTower(scratch, 6);
   std::vector<std::string> names;
   for (size_t i = 0; i < tower.blocks.size(); ++i) {
-    names.push_back(i == 7 ? "target" : "block" + std::to_string(i / 3) + "_" + std::to_string(i % 3));
+    names.push_back(i == 7 ? "target"
+                           : "block" + std::to_string(i / 3) + "_" + std::to_string(i % 3));
   }
   json bodies = json::array({floorBody()});
   for (json& b : bodiesOf(scratch, tower.blocks, names)) bodies.push_back(b);
@@ -169,26 +205,42 @@ json jenga() {
   const double r = hd.scale * hd.fingers[1].radius[2];
   const double axisHalf = 0.5 * hd.scale * hd.fingers[1].length[2] - 0.5 * r;
   const Vec3 target = scratch.pose(tower.blocks[7]).p;
-  const Vec3 face(tower.blockHalfExtents.x() + axisHalf, target.y(), target.z()), n(1, 0, 0), axis(-1, 0, 0);
-  auto tip = [&](double t, double depth) { return pressKey(t, {press("index_distal", face, n, axis, depth)}); };
+  const Vec3 face(tower.blockHalfExtents.x() + axisHalf, target.y(), target.z()), n(1, 0, 0),
+      axis(-1, 0, 0);
+  auto tip = [&](double t, double depth) {
+    return pressKey(t, {press("index_distal", face, n, axis, depth)});
+  };
   const double travel = 0.045, speed = 0.03;
   s["hands"] = {{{"name", "right"},
                  {"scale", hd.scale},
-                 {"keyframes", {{{"time", 0.0}, {"park", v3(0, 10, 0)}}, tip(1.0, -0.002), tip(1.333, 0.002),
-                                tip(1.333 + travel / speed, 0.002 + travel), tip(3.0, -0.03)}}}};
-  s["checks"] = {{{"label", "the target block came 3.5 cm out"}, {"kind", "displacement"}, {"body", "target"},
-                  {"axis", v3(-1, 0, 0)}, {"min", 0.035}, {"since", 0.9}},
-                 {{"label", "every other block stayed within 5 mm"}, {"kind", "displacement"}, {"bodies", "*"},
-                  {"except", {"target"}}, {"max", 0.005}, {"since", 0.9}}};
+                 {"keyframes",
+                  {{{"time", 0.0}, {"park", v3(0, 10, 0)}},
+                   tip(1.0, -0.002),
+                   tip(1.333, 0.002),
+                   tip(1.333 + travel / speed, 0.002 + travel),
+                   tip(3.0, -0.03)}}}};
+  s["checks"] = {{{"label", "the target block came 3.5 cm out"},
+                  {"kind", "displacement"},
+                  {"body", "target"},
+                  {"axis", v3(-1, 0, 0)},
+                  {"min", 0.035},
+                  {"since", 0.9}},
+                 {{"label", "every other block stayed within 5 mm"},
+                  {"kind", "displacement"},
+                  {"bodies", "*"},
+                  {"except", {"target"}},
+                  {"max", 0.005},
+                  {"since", 0.9}}};
   return s;
 }
 
 json spin() {
-  json s = base("spin",
-                "Thumb and index fingertips pinch a cube midair and turn it 60 degrees about the z "
-                "axis (across the pinch) by moving around it in opposite directions (thesis 4: spin an "
-                "object between two fingers).",
-                2.5);
+  json s =
+      base("spin",
+           "Thumb and index fingertips pinch a cube midair and turn it 60 degrees about the z "
+           "axis (across the pinch) by moving around it in opposite directions (thesis 4: spin an "
+           "object between two fingers).",
+           2.5);
   const double half = 0.03, mass = 0.1, depth = 2.0 * holdDepth(mass);
   const Vec3 c(0, 0.5, 0), z(0, 0, 1);
   s["bodies"] = {boxBody("cube", half, half, half, mass, c)};
@@ -206,10 +258,20 @@ json spin() {
   s["hands"] = {{{"name", "right"}, {"keyframes", keys}}};
   // The fingers turn 60 degrees; the cube follows and overshoots by about 10 degrees as the grip
   // loosens near the end (the anchored contact points rotate away from the finger paths).
-  s["checks"] = {{{"label", "the cube turned 45-75 degrees with the fingers (60)"}, {"kind", "angle"},
-                  {"body", "cube"}, {"axis", v3(0, 0, 1)}, {"min", -75.0}, {"max", -45.0}},
-                 {{"label", "it was never dropped"}, {"kind", "lowestHeight"}, {"body", "cube"}, {"min", c.y() - 0.02}},
-                 {{"label", "it is at rest in the fingers"}, {"kind", "speed"}, {"body", "cube"}, {"max", 0.02}}};
+  s["checks"] = {{{"label", "the cube turned 45-75 degrees with the fingers (60)"},
+                  {"kind", "angle"},
+                  {"body", "cube"},
+                  {"axis", v3(0, 0, 1)},
+                  {"min", -75.0},
+                  {"max", -45.0}},
+                 {{"label", "it was never dropped"},
+                  {"kind", "lowestHeight"},
+                  {"body", "cube"},
+                  {"min", c.y() - 0.02}},
+                 {{"label", "it is at rest in the fingers"},
+                  {"kind", "speed"},
+                  {"body", "cube"},
+                  {"max", 0.02}}};
   return s;
 }
 
@@ -224,7 +286,9 @@ json flatLift() {
   json keys = json::array();
   auto at = [&](double t, double lift) {
     keys.push_back({{"time", t},
-                    {"palm", {{"position", v3(0, palmY + lift, 0)}, {"orientation", {{"axis", v3(0, 0, 1)}, {"degrees", 180}}}}},
+                    {"palm",
+                     {{"position", v3(0, palmY + lift, 0)},
+                      {"orientation", {{"axis", v3(0, 0, 1)}, {"degrees", 180}}}}},
                     {"pose", "flat"}});
   };
   at(0.0, 0.0);
@@ -235,10 +299,17 @@ json flatLift() {
   }
   at(2.5, 0.2);
   s["hands"] = {{{"name", "right"}, {"keyframes", keys}}};
-  s["checks"] = {{{"label", "the box rode up 20 cm on the palm"}, {"kind", "displacement"}, {"body", "box"},
-                  {"axis", v3(0, 1, 0)}, {"min", 0.18}, {"max", 0.205}},
-                 {{"label", "it did not slide off"}, {"kind", "position"}, {"body", "box"},
-                  {"min", {-0.03, nullptr, -0.03}}, {"max", {0.01, nullptr, 0.01}}},
+  s["checks"] = {{{"label", "the box rode up 20 cm on the palm"},
+                  {"kind", "displacement"},
+                  {"body", "box"},
+                  {"axis", v3(0, 1, 0)},
+                  {"min", 0.18},
+                  {"max", 0.205}},
+                 {{"label", "it did not slide off"},
+                  {"kind", "position"},
+                  {"body", "box"},
+                  {"min", {-0.03, nullptr, -0.03}},
+                  {"max", {0.01, nullptr, 0.01}}},
                  {{"label", "it is at rest"}, {"kind", "speed"}, {"body", "box"}, {"max", 0.02}}};
   return s;
 }

@@ -30,11 +30,12 @@ std::string typeName(const json& j) {
 }
 
 // The object at `path`; refuses fields not in `allowed`.
-const json& object(const json& j, const std::string& path, std::initializer_list<const char*> allowed) {
+const json& object(const json& j, const std::string& path,
+                   std::initializer_list<const char*> allowed) {
   if (!j.is_object()) fail(path, std::string("must be an object (got ") + typeName(j) + ")");
   for (auto it = j.begin(); it != j.end(); ++it) {
-    const bool ok = std::any_of(allowed.begin(), allowed.end(),
-                                [&](const char* a) { return it.key() == a; });
+    const bool ok =
+        std::any_of(allowed.begin(), allowed.end(), [&](const char* a) { return it.key() == a; });
     if (!ok) fail(key(path, it.key()), "unknown field");
   }
   return j;
@@ -90,7 +91,8 @@ Vec3 vec3(const json& j, const std::string& path) {
 Vec3 positiveVec3(const json& j, const std::string& path) {
   const Vec3 v = vec3(j, path);
   for (int i = 0; i < 3; ++i) {
-    if (!(v[i] > 0.0)) fail(index(path, static_cast<size_t>(i)), "must be positive (got " + j[i].dump() + ")");
+    if (!(v[i] > 0.0))
+      fail(index(path, static_cast<size_t>(i)), "must be positive (got " + j[i].dump() + ")");
   }
   return v;
 }
@@ -136,7 +138,8 @@ void parseWorld(const json& j, const std::string& path, Scene& s) {
   object(j, path,
          {"gravity", "hz", "dt", "substeps", "iterations", "positionIterations", "sleep",
           "contactHertz"});
-  opt(j, path, "gravity", [&](const json& v, const std::string& p) { s.world.gravity = vec3(v, p); });
+  opt(j, path, "gravity",
+      [&](const json& v, const std::string& p) { s.world.gravity = vec3(v, p); });
   if (j.contains("hz") && j.contains("dt")) fail(key(path, "dt"), "give either hz or dt, not both");
   opt(j, path, "hz", [&](const json& v, const std::string& p) {
     const double hz = positive(v, p);
@@ -147,19 +150,24 @@ void parseWorld(const json& j, const std::string& path, Scene& s) {
     s.dt = positive(v, p);
     if (s.dt > 1.0) fail(p, "must be at most 1 s");
   });
-  opt(j, path, "substeps", [&](const json& v, const std::string& p) { s.world.substeps = integer(v, p, 1, 1000); });
-  opt(j, path, "iterations",
-      [&](const json& v, const std::string& p) { s.world.relaxIterations = integer(v, p, 0, 1000); });
-  opt(j, path, "positionIterations",
-      [&](const json& v, const std::string& p) { s.world.positionIterations = integer(v, p, 0, 1000); });
-  opt(j, path, "sleep", [&](const json& v, const std::string& p) { s.world.enableSleep = boolean(v, p); });
+  opt(j, path, "substeps",
+      [&](const json& v, const std::string& p) { s.world.substeps = integer(v, p, 1, 1000); });
+  opt(j, path, "iterations", [&](const json& v, const std::string& p) {
+    s.world.relaxIterations = integer(v, p, 0, 1000);
+  });
+  opt(j, path, "positionIterations", [&](const json& v, const std::string& p) {
+    s.world.positionIterations = integer(v, p, 0, 1000);
+  });
+  opt(j, path, "sleep",
+      [&](const json& v, const std::string& p) { s.world.enableSleep = boolean(v, p); });
   opt(j, path, "contactHertz",
       [&](const json& v, const std::string& p) { s.world.contactHertz = positive(v, p); });
 }
 
 MaterialDef parseMaterial(const json& j, const std::string& path, MaterialDef m) {
   object(j, path, {"staticFriction", "dynamicFriction", "restitution", "density"});
-  opt(j, path, "staticFriction", [&](const json& v, const std::string& p) { m.staticFriction = nonNegative(v, p); });
+  opt(j, path, "staticFriction",
+      [&](const json& v, const std::string& p) { m.staticFriction = nonNegative(v, p); });
   opt(j, path, "dynamicFriction",
       [&](const json& v, const std::string& p) { m.dynamicFriction = nonNegative(v, p); });
   opt(j, path, "restitution", [&](const json& v, const std::string& p) {
@@ -225,9 +233,12 @@ BodyInteractionDef parseBodyInteraction(const json& j, const std::string& path) 
   object(j, path, {"gamma", "autoGamma", "staticFriction", "dynamicFriction"});
   BodyInteractionDef d;
   opt(j, path, "gamma", [&](const json& v, const std::string& p) { d.gamma = positive(v, p); });
-  opt(j, path, "autoGamma", [&](const json& v, const std::string& p) { d.autoGamma = boolean(v, p); });
-  opt(j, path, "staticFriction", [&](const json& v, const std::string& p) { d.staticFriction = positive(v, p); });
-  opt(j, path, "dynamicFriction", [&](const json& v, const std::string& p) { d.dynamicFriction = positive(v, p); });
+  opt(j, path, "autoGamma",
+      [&](const json& v, const std::string& p) { d.autoGamma = boolean(v, p); });
+  opt(j, path, "staticFriction",
+      [&](const json& v, const std::string& p) { d.staticFriction = positive(v, p); });
+  opt(j, path, "dynamicFriction",
+      [&](const json& v, const std::string& p) { d.dynamicFriction = positive(v, p); });
   return d;
 }
 
@@ -245,8 +256,9 @@ BodySpec parseBody(const json& j, const std::string& path, size_t i,
     if (d.name.empty()) fail(p, "must not be empty");
   });
   opt(j, path, "type", [&](const json& v, const std::string& p) {
-    d.type = std::array{BodyType::Dynamic, BodyType::Static,
-                        BodyType::Kinematic}[choice(v, p, std::array{"dynamic", "static", "kinematic"})];
+    d.type =
+        std::array{BodyType::Dynamic, BodyType::Static,
+                   BodyType::Kinematic}[choice(v, p, std::array{"dynamic", "static", "kinematic"})];
   });
   bool isPlane = false;
   d.shape = parseShape(required(j, path, "shape"), key(path, "shape"), isPlane);
@@ -261,17 +273,27 @@ BodySpec parseBody(const json& j, const std::string& path, size_t i,
     }
   });
   opt(j, path, "position", [&](const json& v, const std::string& p) { d.position = vec3(v, p); });
-  opt(j, path, "orientation", [&](const json& v, const std::string& p) { d.orientation = orientation(v, p); });
-  opt(j, path, "linearVelocity", [&](const json& v, const std::string& p) { d.linearVelocity = vec3(v, p); });
-  opt(j, path, "angularVelocity", [&](const json& v, const std::string& p) { d.angularVelocity = vec3(v, p); });
-  if (j.contains("mass") && j.contains("density")) fail(key(path, "density"), "give either mass or density, not both");
+  opt(j, path, "orientation",
+      [&](const json& v, const std::string& p) { d.orientation = orientation(v, p); });
+  opt(j, path, "linearVelocity",
+      [&](const json& v, const std::string& p) { d.linearVelocity = vec3(v, p); });
+  opt(j, path, "angularVelocity",
+      [&](const json& v, const std::string& p) { d.angularVelocity = vec3(v, p); });
+  if (j.contains("mass") && j.contains("density"))
+    fail(key(path, "density"), "give either mass or density, not both");
   opt(j, path, "mass", [&](const json& v, const std::string& p) { d.mass = positive(v, p); });
-  opt(j, path, "density", [&](const json& v, const std::string& p) { d.material.density = positive(v, p); });
-  opt(j, path, "gravityScale", [&](const json& v, const std::string& p) { d.gravityScale = number(v, p); });
-  opt(j, path, "linearDamping", [&](const json& v, const std::string& p) { d.linearDamping = nonNegative(v, p); });
-  opt(j, path, "angularDamping", [&](const json& v, const std::string& p) { d.angularDamping = nonNegative(v, p); });
-  opt(j, path, "allowSleep", [&](const json& v, const std::string& p) { d.allowSleep = boolean(v, p); });
-  opt(j, path, "interaction", [&](const json& v, const std::string& p) { b.interaction = parseBodyInteraction(v, p); });
+  opt(j, path, "density",
+      [&](const json& v, const std::string& p) { d.material.density = positive(v, p); });
+  opt(j, path, "gravityScale",
+      [&](const json& v, const std::string& p) { d.gravityScale = number(v, p); });
+  opt(j, path, "linearDamping",
+      [&](const json& v, const std::string& p) { d.linearDamping = nonNegative(v, p); });
+  opt(j, path, "angularDamping",
+      [&](const json& v, const std::string& p) { d.angularDamping = nonNegative(v, p); });
+  opt(j, path, "allowSleep",
+      [&](const json& v, const std::string& p) { d.allowSleep = boolean(v, p); });
+  opt(j, path, "interaction",
+      [&](const json& v, const std::string& p) { b.interaction = parseBodyInteraction(v, p); });
   return b;
 }
 
@@ -290,18 +312,23 @@ void parseInteraction(const json& j, const std::string& path, InteractionDef& d)
                                                                    : SlipLaw::ThesisLiteral;
   });
   opt(j, path, "contactPoint", [&](const json& v, const std::string& p) {
-    d.contactPoint = std::array{ContactPointMethod::Auto, ContactPointMethod::RayCast,
-                                ContactPointMethod::ClosestPoint}[choice(
-        v, p, std::array{"auto", "raycast", "closest"})];
+    d.contactPoint = std::array{
+        ContactPointMethod::Auto, ContactPointMethod::RayCast,
+        ContactPointMethod::ClosestPoint}[choice(v, p, std::array{"auto", "raycast", "closest"})];
   });
-  opt(j, path, "contactOffset", [&](const json& v, const std::string& p) { d.contactOffset = positive(v, p); });
-  opt(j, path, "releaseMargin", [&](const json& v, const std::string& p) { d.releaseMargin = nonNegative(v, p); });
+  opt(j, path, "contactOffset",
+      [&](const json& v, const std::string& p) { d.contactOffset = positive(v, p); });
+  opt(j, path, "releaseMargin",
+      [&](const json& v, const std::string& p) { d.releaseMargin = nonNegative(v, p); });
   opt(j, path, "patchSamples", [&](const json& v, const std::string& p) {
     d.patchSamples = integer(v, p, 1, 9);
-    if (d.patchSamples != 1 && d.patchSamples != 5 && d.patchSamples != 9) fail(p, "must be 1, 5 or 9");
+    if (d.patchSamples != 1 && d.patchSamples != 5 && d.patchSamples != 9)
+      fail(p, "must be 1, 5 or 9");
   });
-  opt(j, path, "surfaceUpdates", [&](const json& v, const std::string& p) { d.surfaceUpdates = boolean(v, p); });
-  opt(j, path, "skinStaticFriction", [&](const json& v, const std::string& p) { d.skin.staticFriction = positive(v, p); });
+  opt(j, path, "surfaceUpdates",
+      [&](const json& v, const std::string& p) { d.surfaceUpdates = boolean(v, p); });
+  opt(j, path, "skinStaticFriction",
+      [&](const json& v, const std::string& p) { d.skin.staticFriction = positive(v, p); });
   opt(j, path, "skinDynamicFriction",
       [&](const json& v, const std::string& p) { d.skin.dynamicFriction = positive(v, p); });
   if (d.skin.dynamicFriction > d.skin.staticFriction) {
@@ -309,15 +336,18 @@ void parseInteraction(const json& j, const std::string& path, InteractionDef& d)
   }
   opt(j, path, "kinematicGripForce",
       [&](const json& v, const std::string& p) { d.kinematicGripForce = positive(v, p); });
-  opt(j, path, "trackingGrace", [&](const json& v, const std::string& p) { d.trackingGrace = nonNegative(v, p); });
-  opt(j, path, "teleportDistance", [&](const json& v, const std::string& p) { d.teleportDistance = positive(v, p); });
+  opt(j, path, "trackingGrace",
+      [&](const json& v, const std::string& p) { d.trackingGrace = nonNegative(v, p); });
+  opt(j, path, "teleportDistance",
+      [&](const json& v, const std::string& p) { d.teleportDistance = positive(v, p); });
 }
 
 int boneByName(const json& j, const std::string& path) {
   const std::string s = string(j, path);
   for (int b = 0; b < kBonesPerHand; ++b)
     if (s == boneName(b)) return b;
-  fail(path, "unknown bone \"" + s + "\" (palm, thumb_metacarpal, ..., index_distal, ..., pinky_distal)");
+  fail(path,
+       "unknown bone \"" + s + "\" (palm, thumb_metacarpal, ..., index_distal, ..., pinky_distal)");
 }
 
 KeySpec parseKey(const json& j, const std::string& path) {
@@ -328,12 +358,14 @@ KeySpec parseKey(const json& j, const std::string& path) {
     object(v, p, {"position", "orientation"});
     Transform t;
     t.p = vec3(required(v, p, "position"), key(p, "position"));
-    opt(v, p, "orientation", [&](const json& o, const std::string& op) { t.q = orientation(o, op); });
+    opt(v, p, "orientation",
+        [&](const json& o, const std::string& op) { t.q = orientation(o, op); });
     k.palm = t;
   });
   opt(j, path, "pose", [&](const json& v, const std::string& p) {
     if (!k.palm) fail(p, "needs a \"palm\" to pose the hand at");
-    k.pose = static_cast<GraspPose>(choice(v, p, std::array{"open", "pinch", "power", "flat", "point"}));
+    k.pose =
+        static_cast<GraspPose>(choice(v, p, std::array{"open", "pinch", "power", "flat", "point"}));
   });
   opt(j, path, "park", [&](const json& v, const std::string& p) {
     if (k.palm) fail(p, "give either palm or park, not both");
@@ -376,11 +408,14 @@ HandSpec parseHand(const json& j, const std::string& path, size_t i) {
     if (h.def.name.empty()) fail(p, "must not be empty");
   });
   opt(j, path, "side", [&](const json& v, const std::string& p) {
-    h.def.side = choice(v, p, std::array{"right", "left"}) == 0 ? Handedness::Right : Handedness::Left;
+    h.def.side =
+        choice(v, p, std::array{"right", "left"}) == 0 ? Handedness::Right : Handedness::Left;
   });
   opt(j, path, "scale", [&](const json& v, const std::string& p) { h.def.scale = positive(v, p); });
-  opt(j, path, "positionNoise", [&](const json& v, const std::string& p) { h.positionNoise = nonNegative(v, p); });
-  opt(j, path, "rotationNoise", [&](const json& v, const std::string& p) { h.rotationNoise = nonNegative(v, p); });
+  opt(j, path, "positionNoise",
+      [&](const json& v, const std::string& p) { h.positionNoise = nonNegative(v, p); });
+  opt(j, path, "rotationNoise",
+      [&](const json& v, const std::string& p) { h.rotationNoise = nonNegative(v, p); });
   opt(j, path, "trackingLoss", [&](const json& v, const std::string& p) {
     if (!v.is_array()) fail(p, "must be an array of [start, end] pairs");
     for (size_t k = 0; k < v.size(); ++k) {
@@ -400,9 +435,11 @@ HandSpec parseHand(const json& j, const std::string& path, size_t i) {
       fail(key(index(kp, k), "time"), "must be later than the keyframe before");
     }
   }
-  const bool anyPalm = std::any_of(h.keys.begin(), h.keys.end(), [](const KeySpec& k) { return k.palm.has_value(); });
+  const bool anyPalm = std::any_of(h.keys.begin(), h.keys.end(),
+                                   [](const KeySpec& k) { return k.palm.has_value(); });
   if ((h.positionNoise > 0.0 || h.rotationNoise > 0.0) && anyPalm &&
-      !std::all_of(h.keys.begin(), h.keys.end(), [](const KeySpec& k) { return k.palm && k.press.empty(); })) {
+      !std::all_of(h.keys.begin(), h.keys.end(),
+                   [](const KeySpec& k) { return k.palm && k.press.empty(); })) {
     fail(key(path, "positionNoise"), "tracking noise needs palm keyframes only");
   }
   return h;
@@ -416,7 +453,8 @@ int bodyByName(const json& j, const std::string& path, const Scene& s) {
 }
 
 CheckSpec parseCheck(const json& j, const std::string& path, const Scene& s) {
-  object(j, path, {"kind", "label", "body", "bodies", "except", "hand", "axis", "min", "max", "since"});
+  object(j, path,
+         {"kind", "label", "body", "bodies", "except", "hand", "axis", "min", "max", "since"});
   CheckSpec c;
   c.kind = static_cast<CheckKind>(choice(
       required(j, path, "kind"), key(path, "kind"),
@@ -457,7 +495,8 @@ CheckSpec parseCheck(const json& j, const std::string& path, const Scene& s) {
     c.since = nonNegative(v, p);
     if (c.since >= s.duration) fail(p, "must be before the end of the run (duration)");
   });
-  if (c.kind == CheckKind::Angle && !c.axis) fail(key(path, "axis"), "is required for an angle check");
+  if (c.kind == CheckKind::Angle && !c.axis)
+    fail(key(path, "axis"), "is required for an angle check");
   for (const char* bound : {"min", "max"}) {
     if (!j.contains(bound)) continue;
     const std::string bp = key(path, bound);
@@ -538,11 +577,14 @@ void applyOverride(json& doc, const std::string& keyValue) {
     const std::string& tok = tokens[t];
     const bool last = t + 1 == tokens.size();
     if (node->is_array()) {
-      const bool digits = std::all_of(tok.begin(), tok.end(), [](char c) { return c >= '0' && c <= '9'; });
-      if (!digits || tok.size() > 9) throw Error(where, path + " is an array: expected an index, got \"" + tok + "\"");
+      const bool digits =
+          std::all_of(tok.begin(), tok.end(), [](char c) { return c >= '0' && c <= '9'; });
+      if (!digits || tok.size() > 9)
+        throw Error(where, path + " is an array: expected an index, got \"" + tok + "\"");
       const size_t i = std::stoul(tok);
       if (i >= node->size()) {
-        throw Error(where, path + " has " + std::to_string(node->size()) + " elements, no index " + tok);
+        throw Error(where,
+                    path + " has " + std::to_string(node->size()) + " elements, no index " + tok);
       }
       path = index(path, i);
       node = &(*node)[i];
@@ -551,7 +593,8 @@ void applyOverride(json& doc, const std::string& keyValue) {
       if (!last && !node->contains(tok)) throw Error(where, path + " does not exist");
       node = &(*node)[tok];
     } else {
-      throw Error(where, (path.empty() ? std::string("the scene") : path) + " is not an object or array");
+      throw Error(where,
+                  (path.empty() ? std::string("the scene") : path) + " is not an object or array");
     }
   }
   *node = value;
@@ -560,8 +603,8 @@ void applyOverride(json& doc, const std::string& keyValue) {
 Scene parseScene(const json& doc) {
   Scene s;
   object(doc, "",
-         {"grip_scene", "name", "description", "world", "materials", "bodies", "interaction", "hands",
-          "duration", "seed", "checks"});
+         {"grip_scene", "name", "description", "world", "materials", "bodies", "interaction",
+          "hands", "duration", "seed", "checks"});
   const json& version = required(doc, "", "grip_scene");
   if (!version.is_number_integer() || version.get<int64_t>() != kSceneVersion) {
     fail("grip_scene", "unsupported version " + version.dump() + " (this grip reads version " +
@@ -570,7 +613,8 @@ Scene parseScene(const json& doc) {
   s.source = doc;
   s.name = "scene";
   opt(doc, "", "name", [&](const json& v, const std::string& p) { s.name = string(v, p); });
-  opt(doc, "", "description", [&](const json& v, const std::string& p) { s.description = string(v, p); });
+  opt(doc, "", "description",
+      [&](const json& v, const std::string& p) { s.description = string(v, p); });
   opt(doc, "", "world", [&](const json& v, const std::string& p) { parseWorld(v, p, s); });
   s.duration = positive(required(doc, "", "duration"), "duration");
   if (s.duration > 24 * 3600.0) fail("duration", "must be at most a day");
@@ -598,7 +642,8 @@ Scene parseScene(const json& doc) {
       fail(key(p, "name"), "duplicate body name \"" + s.bodies.back().def.name + "\"");
     }
   }
-  opt(doc, "", "interaction", [&](const json& v, const std::string& p) { parseInteraction(v, p, s.interaction); });
+  opt(doc, "", "interaction",
+      [&](const json& v, const std::string& p) { parseInteraction(v, p, s.interaction); });
   opt(doc, "", "hands", [&](const json& v, const std::string& p) {
     if (!v.is_array()) fail(p, "must be an array");
     std::set<std::string> handNames;

@@ -1,13 +1,13 @@
 // Running a scene: build the world and hands, step to the duration, stream the recording, collect
 // metrics and evaluate the checks.
 #include <algorithm>
+#include <cerrno>
 #include <charconv>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <filesystem>
-#include <cerrno>
 #include <cstring>
+#include <filesystem>
 #include <limits>
 #include <map>
 #include <memory>
@@ -90,11 +90,14 @@ class HandScript {
       }
       p = scenarios::parkedHand(d, k.park ? *k.park : anchor + Vec3(0.0, 10.0, 0.0));
       if (k.pinch) {
-        const HandPose pinch = scenarios::pinchCube(d, k.pinch->center, k.pinch->halfWidth, k.pinch->depth);
-        for (Finger f : {Finger::Thumb, Finger::Index}) p.bones[boneIndex(f, 2)] = pinch.bones[boneIndex(f, 2)];
+        const HandPose pinch =
+            scenarios::pinchCube(d, k.pinch->center, k.pinch->halfWidth, k.pinch->depth);
+        for (Finger f : {Finger::Thumb, Finger::Index})
+          p.bones[boneIndex(f, 2)] = pinch.bones[boneIndex(f, 2)];
       }
     }
-    for (const BonePress& b : k.press) scenarios::pressBone(p, d, b.bone, b.point, b.normal, b.axis, b.depth);
+    for (const BonePress& b : k.press)
+      scenarios::pressBone(p, d, b.bone, b.point, b.normal, b.axis, b.depth);
     p.tracked = k.tracked;
     return p;
   }
@@ -137,9 +140,11 @@ class LineWriter {
 
 class Recording {
  public:
-  Recording(const std::filesystem::path& dir, const std::string& file) : final_(dir / file), temp_(dir / (file + ".partial")) {
+  Recording(const std::filesystem::path& dir, const std::string& file)
+      : final_(dir / file), temp_(dir / (file + ".partial")) {
     f_ = std::fopen(temp_.c_str(), "wb");
-    if (!f_) throw Error(dir.string(), std::string("cannot write the recording: ") + std::strerror(errno));
+    if (!f_)
+      throw Error(dir.string(), std::string("cannot write the recording: ") + std::strerror(errno));
   }
   ~Recording() {
     if (f_) {  // not committed: an error happened; leave nothing that looks complete
@@ -149,7 +154,8 @@ class Recording {
     }
   }
   void write(const std::string& line) {
-    if (std::fwrite(line.data(), 1, line.size(), f_) != line.size() || std::fputc('\n', f_) == EOF) {
+    if (std::fwrite(line.data(), 1, line.size(), f_) != line.size() ||
+        std::fputc('\n', f_) == EOF) {
       throw Error(temp_.string(), std::string("write failed: ") + std::strerror(errno));
     }
   }
@@ -177,7 +183,8 @@ class Recording {
 };
 
 json poseJson(const Transform& t) {
-  return {{"position", {t.p.x(), t.p.y(), t.p.z()}}, {"orientation", {t.q.w(), t.q.x(), t.q.y(), t.q.z()}}};
+  return {{"position", {t.p.x(), t.p.y(), t.p.z()}},
+          {"orientation", {t.q.w(), t.q.x(), t.q.y(), t.q.z()}}};
 }
 json vecJson(const Vec3& v) {
   return {v.x(), v.y(), v.z()};
@@ -289,22 +296,27 @@ RunResult run(const Scene& scene, const RunOptions& options) {
     std::error_code ec;
     std::filesystem::create_directories(dir, ec);
     if (ec || !std::filesystem::is_directory(dir)) {
-      throw Error(options.outDir, "cannot create the output directory" + (ec ? ": " + ec.message() : std::string()));
+      throw Error(options.outDir, "cannot create the output directory" +
+                                      (ec ? ": " + ec.message() : std::string()));
     }
     rec = std::make_unique<Recording>(dir, "recording.jsonl");
-    json header = {{"format", "grip-recording"},
-                   {"version", 1},
-                   {"scene", scene.name},
-                   {"dt", dt},
-                   {"steps", steps},
-                   {"recordEvery", every},
-                   {"seed", scene.seed},
-                   {"method", scene.interaction.method == InteractionMethod::Friction ? "coulomb" : "kinematic"}};
+    json header = {
+        {"format", "grip-recording"},
+        {"version", 1},
+        {"scene", scene.name},
+        {"dt", dt},
+        {"steps", steps},
+        {"recordEvery", every},
+        {"seed", scene.seed},
+        {"method",
+         scene.interaction.method == InteractionMethod::Friction ? "coulomb" : "kinematic"}};
     json bodies = json::array();
     for (size_t i = 0; i < ids.size(); ++i) {
       const BodyDef& d = scene.bodies[i].def;
       bodies.push_back({{"name", d.name},
-                        {"type", d.type == BodyType::Static ? "static" : d.type == BodyType::Kinematic ? "kinematic" : "dynamic"},
+                        {"type", d.type == BodyType::Static      ? "static"
+                                 : d.type == BodyType::Kinematic ? "kinematic"
+                                                                 : "dynamic"},
                         {"shape", shapeJson(*d.shape)}});
     }
     header["bodies"] = bodies;
@@ -354,7 +366,8 @@ RunResult run(const Scene& scene, const RunOptions& options) {
   auto penetration = [&](size_t h, const HandPose& pose, const HandContactInfo& c) {
     manifolds.clear();
     const int bone = c.bone;
-    collide(*handShapes[h].bones[bone], pose.bones[bone], world.shape(c.body), world.pose(c.body), 0.0, manifolds);
+    collide(*handShapes[h].bones[bone], pose.bones[bone], world.shape(c.body), world.pose(c.body),
+            0.0, manifolds);
     double deepest = 0.0;
     for (const Manifold& m : manifolds)
       for (int k = 0; k < m.pointCount; ++k) deepest = std::max(deepest, -m.points[k].separation);
@@ -376,7 +389,8 @@ RunResult run(const Scene& scene, const RunOptions& options) {
     tStep += seconds(c, d);
 
     // Measures.
-    const std::vector<HandContactInfo> contacts = hands.empty() ? std::vector<HandContactInfo>{} : ix.contacts();
+    const std::vector<HandContactInfo> contacts =
+        hands.empty() ? std::vector<HandContactInfo>{} : ix.contacts();
     contactsBegun += static_cast<long long>(ix.contactBeginEvents().size());
     slipSamples += ix.stats().slippingSamples;
     maxPressing = std::max(maxPressing, ix.stats().pressingContacts);
@@ -385,11 +399,13 @@ RunResult run(const Scene& scene, const RunOptions& options) {
       bool& was = slipping[k];
       if (ci.slipping && !was) ++slipOnsets;
       was = ci.slipping;
-      const size_t h = static_cast<size_t>(std::find(hands.begin(), hands.end(), ci.hand) - hands.begin());
+      const size_t h =
+          static_cast<size_t>(std::find(hands.begin(), hands.end(), ci.hand) - hands.begin());
       maxPenTracked = std::max(maxPenTracked, penetration(h, ix.trackedPose(ci.hand), ci));
       maxPenVisual = std::max(maxPenVisual, penetration(h, ix.visualPose(ci.hand), ci));
     }
-    for (size_t i = 0; i < ids.size(); ++i) lowest[i] = std::min(lowest[i], world.centerOfMass(ids[i]).y());
+    for (size_t i = 0; i < ids.size(); ++i)
+      lowest[i] = std::min(lowest[i], world.centerOfMass(ids[i]).y());
     takeReferences((step + 1) * dt, dt);
     energyMax = std::max(energyMax, totalEnergy(world));
     auto e = Clock::now();
@@ -427,8 +443,10 @@ RunResult run(const Scene& scene, const RunOptions& options) {
       for (const HandContactInfo& ci : contacts) {
         if (!first) s += ',';
         first = false;
-        const size_t h = static_cast<size_t>(std::find(hands.begin(), hands.end(), ci.hand) - hands.begin());
-        const size_t bi = static_cast<size_t>(std::find(ids.begin(), ids.end(), ci.body) - ids.begin());
+        const size_t h =
+            static_cast<size_t>(std::find(hands.begin(), hands.end(), ci.hand) - hands.begin());
+        const size_t bi =
+            static_cast<size_t>(std::find(ids.begin(), ids.end(), ci.body) - ids.begin());
         s += "{\"hand\":" + std::to_string(h) + ",\"bone\":" + std::to_string(ci.bone) +
              ",\"body\":" + std::to_string(bi) + ",\"point\":";
         line.vec(ci.point);
@@ -444,7 +462,8 @@ RunResult run(const Scene& scene, const RunOptions& options) {
       rec->write(s);
     }
     tRecord += seconds(e, Clock::now());
-    if (options.progress && (step % 64 == 0 || step + 1 == steps)) options.progress(step + 1, steps);
+    if (options.progress && (step % 64 == 0 || step + 1 == steps))
+      options.progress(step + 1, steps);
   }
   const auto tEnd = Clock::now();
 
@@ -460,11 +479,13 @@ RunResult run(const Scene& scene, const RunOptions& options) {
       for (const HandContactInfo& info : ix.contacts())
         if (info.pressing && info.hand == hands[static_cast<size_t>(c.hand)]) ++n;
       r.passed = within(n, c.min, c.max);
-      what = std::string(kindName(c.kind)) + " of " + scene.hands[static_cast<size_t>(c.hand)].def.name;
+      what = std::string(kindName(c.kind)) + " of " +
+             scene.hands[static_cast<size_t>(c.hand)].def.name;
       r.detail = std::to_string(n) + " (want " + boundText(c.min, c.max) + ")";
     } else {
       what = std::string(kindName(c.kind)) + " of " +
-             (c.bodies.size() == 1 ? bodyName(c.bodies[0]) : std::to_string(c.bodies.size()) + " bodies");
+             (c.bodies.size() == 1 ? bodyName(c.bodies[0])
+                                   : std::to_string(c.bodies.size()) + " bodies");
       double worst = 0.0;
       std::string worstName;
       bool firstBody = true;
@@ -479,7 +500,9 @@ RunResult run(const Scene& scene, const RunOptions& options) {
             char b[96];
             std::snprintf(b, sizeof b, "(%.4g, %.4g, %.4g)", com.x(), com.y(), com.z());
             detail = b;
-            for (int k = 0; k < 3; ++k) ok = ok && within(com[k], c.minVec[static_cast<size_t>(k)], c.maxVec[static_cast<size_t>(k)]);
+            for (int k = 0; k < 3; ++k)
+              ok = ok && within(com[k], c.minVec[static_cast<size_t>(k)],
+                                c.maxVec[static_cast<size_t>(k)]);
             break;
           }
           case CheckKind::Displacement: {
@@ -494,7 +517,9 @@ RunResult run(const Scene& scene, const RunOptions& options) {
             value = lowest[static_cast<size_t>(bi)];
             break;
           case CheckKind::Angle:
-            value = twistAngle(reference[ci][static_cast<size_t>(bi)].q, world.pose(id).q, *c.axis) * 180.0 / kPi;
+            value =
+                twistAngle(reference[ci][static_cast<size_t>(bi)].q, world.pose(id).q, *c.axis) *
+                180.0 / kPi;
             break;
           case CheckKind::HandContacts:
             break;
@@ -505,7 +530,8 @@ RunResult run(const Scene& scene, const RunOptions& options) {
         }
         // Report the body farthest outside (or nearest to leaving) the bounds.
         double badness = -std::numeric_limits<double>::infinity();
-        auto worse = [&](double x, const std::optional<double>& lo, const std::optional<double>& hi) {
+        auto worse = [&](double x, const std::optional<double>& lo,
+                         const std::optional<double>& hi) {
           if (!std::isfinite(x)) badness = std::numeric_limits<double>::infinity();
           if (lo) badness = std::max(badness, *lo - x);
           if (hi) badness = std::max(badness, x - *hi);
@@ -576,16 +602,19 @@ RunResult run(const Scene& scene, const RunOptions& options) {
                 {"maxPenetrationTracked", maxPenTracked},
                 {"maxPenetrationVisual", maxPenVisual}};
   m["energy"] = {{"initial", energy0}, {"final", totalEnergy(world)}, {"max", energyMax}};
-  m["timings"] = {{"hands", tHands},   {"interaction", tInteraction}, {"step", tStep},
-                  {"measure", tMeasure}, {"record", tRecord},         {"total", seconds(t0, tEnd)}};
+  m["timings"] = {{"hands", tHands},   {"interaction", tInteraction},
+                  {"step", tStep},     {"measure", tMeasure},
+                  {"record", tRecord}, {"total", seconds(t0, tEnd)}};
   json checks = json::array();
-  for (const CheckResult& r : result.checks) checks.push_back({{"label", r.label}, {"passed", r.passed}, {"detail", r.detail}});
+  for (const CheckResult& r : result.checks)
+    checks.push_back({{"label", r.label}, {"passed", r.passed}, {"detail", r.detail}});
   m["checks"] = checks;
   m["passed"] = result.allPassed();
   result.metrics = m;
 
   if (rec) {
-    rec->write(json({{"end", true}, {"frames", (steps + every - 1) / every}, {"stateHash", hash}}).dump());
+    rec->write(
+        json({{"end", true}, {"frames", (steps + every - 1) / every}, {"stateHash", hash}}).dump());
     rec->commit();
     result.recordingPath = rec->path();
     const std::filesystem::path mp = dir / "metrics.json";
