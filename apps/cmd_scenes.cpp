@@ -15,7 +15,7 @@ int listScenes(const std::string& print) {
     return 0;
   }
   for (const scene::BuiltinScene& s : scene::builtinScenes()) {
-    std::printf("%-12s %s\n", s.name.c_str(), s.summary.c_str());
+    std::printf("%-15s %s\n", s.name.c_str(), s.summary.c_str());
   }
   std::printf("\nrun one with `grip run NAME`; `grip scenes --print NAME` shows its scene file\n");
   return 0;

@@ -61,8 +61,8 @@ json press(const char* bone, const Vec3& p, const Vec3& n, const Vec3& axis, dou
           {"depth", depth}};
 }
 
-json pressKey(double t, json presses, const Vec3& park = Vec3(0, 10, 0)) {
-  return {{"time", t}, {"park", v3(park.x(), park.y(), park.z())}, {"press", std::move(presses)}};
+json pressKey(double t, json presses) {
+  return {{"time", t}, {"press", std::move(presses)}};
 }
 
 // ---- the scenes ---------------------------------------------------------------------------------
@@ -133,12 +133,10 @@ json handover() {
   const double half = 0.03, mass = 0.1, depth = 2.0 * holdDepth(mass);
   const Vec3 c(0, 0.5, 0);
   s["bodies"] = {boxBody("cube", half, half, half, mass, c)};
-  const Vec3 z(0, 0, 1), x(1, 0, 0), park(0, 10, 1);
+  const Vec3 z(0, 0, 1), x(1, 0, 0);
   auto left = [&](double t, double d) {
-    return pressKey(t,
-                    {press("thumb_distal", c - half * z, -z, x, d),
-                     press("index_distal", c + half * z, z, x, d)},
-                    park);
+    return pressKey(t, {press("thumb_distal", c - half * z, -z, x, d),
+                        press("index_distal", c + half * z, z, x, d)});
   };
   s["hands"] = {
       {{"name", "right"},
@@ -275,6 +273,142 @@ json spin() {
   return s;
 }
 
+json spinTwoHands() {
+  json s = base("spin_two_hands",
+                "The index fingertips of two hands press a cube from either side midair and turn "
+                "it 60 degrees about z by moving around it in opposite directions (thesis 4: spin "
+                "an object between two hands).",
+                2.5);
+  const double half = 0.03, mass = 0.1, depth = 2.0 * holdDepth(mass);
+  const Vec3 c(0, 0.5, 0), z(0, 0, 1);
+  s["bodies"] = {boxBody("cube", half, half, half, mass, c)};
+  json right = json::array(), left = json::array();
+  auto at = [&](double t, double degrees) {
+    const Mat3 rot = Eigen::AngleAxisd(degrees * kPi / 180.0, z).toRotationMatrix();
+    const Vec3 nx = rot * Vec3(1, 0, 0);
+    right.push_back(pressKey(t, {press("index_distal", c + half * nx, nx, z, depth)}));
+    left.push_back(pressKey(t, {press("index_distal", c - half * nx, -nx, z, depth)}));
+  };
+  at(0.0, 0.0);
+  at(0.5, 0.0);
+  for (int i = 1; i <= 12; ++i) at(0.5 + 1.5 * i / 12.0, -5.0 * i);
+  at(2.5, -60.0);
+  s["hands"] = {{{"name", "right"}, {"keyframes", right}},
+                {{"name", "left"}, {"side", "left"}, {"keyframes", left}}};
+  s["checks"] = {{{"label", "the cube turned 45-75 degrees with the fingers (60)"},
+                  {"kind", "angle"},
+                  {"body", "cube"},
+                  {"axis", v3(0, 0, 1)},
+                  {"min", -75.0},
+                  {"max", -45.0}},
+                 {{"label", "it was never dropped"},
+                  {"kind", "lowestHeight"},
+                  {"body", "cube"},
+                  {"min", c.y() - 0.02}},
+                 {{"label", "both hands still hold it"},
+                  {"kind", "handContacts"},
+                  {"hand", "left"},
+                  {"min", 1}}};
+  return s;
+}
+
+// A figurine stand-in (a 4 x 12 x 4 cm box, 0.2 kg) pushed by a fingertip 9 cm above the floor.
+// On a slippery floor it slides; on wood the push tips it over its far edge.
+json pushFigurine(bool slippery) {
+  json s =
+      base(slippery ? "push_slippery" : "push_tilt",
+           slippery ? "A fingertip pushes a tall figurine 15 cm along a slippery floor (mu 0.05): "
+                      "it slides upright (thesis 4: push a figurine on a slippery floor)."
+                    : "The same push on a wooden floor (mu 0.6): friction at the base tips the "
+                      "figurine over (thesis 4: push a figurine on a wooden floor).",
+           2.5);
+  const double mu = slippery ? 0.05 : 0.6;
+  json floor = floorBody(mu, mu * 0.8);
+  json fig = boxBody("figurine", 0.02, 0.06, 0.02, 0.2, Vec3(0, 0.06, 0));
+  fig["material"] = {{"staticFriction", mu}, {"dynamicFriction", mu * 0.8}};
+  fig["interaction"] = {{"gamma", 1000}};
+  s["bodies"] = {floor, fig};
+  const Vec3 n(-1, 0, 0), axis(0, 0, 1);
+  const double h = 0.09;
+  auto at = [&](double t, double x, double d) {
+    return pressKey(t, {press("index_distal", Vec3(-0.02 + x, h, 0), n, axis, d)});
+  };
+  s["hands"] = {
+      {{"name", "right"},
+       {"keyframes",
+        {at(0.0, 0.0, -0.002), at(0.3, 0.0, 0.004), at(1.8, 0.15, 0.004), at(2.0, 0.15, -0.02)}}}};
+  if (slippery) {
+    s["checks"] = {{{"label", "it slid at least 10 cm"},
+                    {"kind", "displacement"},
+                    {"body", "figurine"},
+                    {"axis", v3(1, 0, 0)},
+                    {"min", 0.10}},
+                   {{"label", "it stayed upright"},
+                    {"kind", "angle"},
+                    {"body", "figurine"},
+                    {"axis", v3(0, 0, 1)},
+                    {"min", -10.0},
+                    {"max", 10.0}}};
+  } else {
+    s["checks"] = {{{"label", "it tipped over its far edge"},
+                    {"kind", "angle"},
+                    {"body", "figurine"},
+                    {"axis", v3(0, 0, 1)},
+                    {"max", -30.0}}};
+  }
+  return s;
+}
+
+// A pinched cube carried 20 cm sideways and 10 cm up while the pinch turns 45 degrees about the
+// vertical (thesis 4: stable motion control of a grasped object).
+
+// 45 degrees. A 90-degree turn in 3 s drops the cube today: past about 50 degrees both pinch
+// contacts slip and the grip fails (an open problem for interaction/, like the power grasp).
+constexpr double kCarryTurn = kPi / 4.0;
+json carryTurn() {
+  json s =
+      base("carry_turn",
+           "Thumb and index pinch a cube midair, carry it 20 cm sideways and 10 cm up and turn "
+           "it 45 degrees about the vertical (thesis 4: stable motion control of a grasped "
+           "object while the hand moves and rotates).",
+           4.0);
+  const double half = 0.03, mass = 0.1, depth = 3.0 * holdDepth(mass);
+  const Vec3 c(0, 0.5, 0), y(0, 1, 0);
+  s["bodies"] = {boxBody("cube", half, half, half, mass, c)};
+  json keys = json::array();
+  auto at = [&](double t, double u) {
+    const Mat3 rot = Eigen::AngleAxisd(kCarryTurn * u, y).toRotationMatrix();
+    const Vec3 centre = c + u * Vec3(0.2, 0.1, 0), nx = rot * Vec3(1, 0, 0),
+               az = rot * Vec3(0, 0, 1);
+    keys.push_back(pressKey(t, {press("thumb_distal", centre - half * nx, -nx, az, depth),
+                                press("index_distal", centre + half * nx, nx, az, depth)}));
+  };
+  at(0.0, 0.0);
+  at(0.5, 0.0);
+  for (int i = 1; i <= 20; ++i) {
+    const double u = i / 20.0;
+    at(0.5 + 3.0 * u, u * u * (3.0 - 2.0 * u));
+  }
+  at(4.0, 1.0);
+  s["hands"] = {{{"name", "right"}, {"keyframes", keys}}};
+  s["checks"] = {{{"label", "the cube arrived with the hand"},
+                  {"kind", "position"},
+                  {"body", "cube"},
+                  {"min", {0.19, 0.585, -0.01}},
+                  {"max", {0.21, 0.605, 0.01}}},
+                 {{"label", "it turned 45 degrees with the hand"},
+                  {"kind", "angle"},
+                  {"body", "cube"},
+                  {"axis", v3(0, 1, 0)},
+                  {"min", 40.0},
+                  {"max", 50.0}},
+                 {{"label", "it is at rest in the grasp"},
+                  {"kind", "speed"},
+                  {"body", "cube"},
+                  {"max", 0.02}}};
+  return s;
+}
+
 json flatLift() {
   json s = base("flat_lift",
                 "A box lies on a flat, palm-up hand, which lifts it 20 cm (thesis 4: lift an "
@@ -324,6 +458,13 @@ const std::vector<BuiltinScene>& builtinScenes() {
       {"jenga", "push one block out of a Jenga tower; the tower stands", jenga},
       {"spin", "turn a pinched cube 60 degrees between thumb and index", spin},
       {"flat_lift", "lift a box lying on a flat, palm-up hand", flatLift},
+      {"spin_two_hands", "turn a cube 60 degrees between the index fingers of two hands",
+       spinTwoHands},
+      {"push_slippery", "push a figurine on a slippery floor: it slides",
+       [] { return pushFigurine(true); }},
+      {"push_tilt", "push a figurine on a wooden floor: it tips over",
+       [] { return pushFigurine(false); }},
+      {"carry_turn", "carry a pinched cube 20 cm and turn it 45 degrees", carryTurn},
   };
   return scenes;
 }
