@@ -1,6 +1,7 @@
 #include "interaction/force_law.hpp"
 
 #include <Eigen/Cholesky>
+#include <cmath>
 
 #include "core/error.hpp"
 
@@ -19,11 +20,13 @@ ConeResult frictionCone(const Vec3& f, const Vec3& n, double muStatic, double mu
   r.normalForce = fn;
   const Vec3 normalPart = -fn * n;         // eq. 3.5, pointing into the body
   const Vec3 tangential = f - normalPart;  // eq. 3.6
-  const double ft = tangential.norm();
-  if (ft <= muStatic * fn) {  // eq. 3.7: inside the cone, stick
+  const double ft2 = tangential.squaredNorm();
+  const double limit = muStatic * fn;
+  if (ft2 <= limit * limit) {  // eq. 3.7: inside the cone, stick (no square root needed)
     r.force = f;
     return r;
   }
+  const double ft = std::sqrt(ft2);
   r.slipping = true;
   if (law == SlipLaw::ThesisLiteral) {
     r.force = normalPart + muDynamic * tangential;  // eq. 3.8 as written

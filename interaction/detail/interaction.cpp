@@ -113,6 +113,7 @@ struct Interaction::Impl {
   InteractionStats stats;
   std::vector<BodyId> dynamicBodies;  // cached; refreshed when bodies come or go
   std::vector<BodyId> bodyScratch;
+  std::array<int, kBonesPerHand> boneContact{};
   // Scratch, reused every update so the hot path does not allocate.
   std::vector<OverlapHit> hits;
   std::vector<SpringPoint> springs;
@@ -242,6 +243,13 @@ void Interaction::Impl::findContacts(const World& w) {
   for (uint32_t hi = 0; hi < hands.size(); ++hi) {
     const Hand& h = hands[hi];
     if (!h.alive || !h.active) continue;
+    // The contact of each bone of this hand (-1: none, -2: several bodies).
+    boneContact.fill(-1);
+    for (size_t i = 0; i < contacts.size(); ++i) {
+      if (contacts[i].hand != hi) continue;
+      int& slot = boneContact[contacts[i].bone];
+      slot = slot == -1 ? static_cast<int>(i) : -2;
+    }
     for (int bone = 0; bone < kBonesPerHand; ++bone) {
       if (keepPressingContact(w, hi, bone, reach)) continue;
       hits.clear();
@@ -321,21 +329,17 @@ void Interaction::Impl::refreshDynamicBodies(const World& w) {
 // query this step: it is inside the body it presses (the patch lets go when the press turns
 // tensile, and the next query then decides whether the contact ends). The narrowphase query is
 // most of the cost of a firm grasp; this skips it exactly when it cannot find anything new.
-bool Interaction::Impl::keepPressingContact(const World& w, uint32_t hand, int bone,
-                                            double reach) {
-  Contact* pressing = nullptr;
-  for (Contact& c : contacts) {
-    if (c.hand != hand || c.bone != bone) continue;
-    if (!c.anchored || c.passive || pressing) return false;  // not pressing, or two bodies
-    pressing = &c;
-  }
-  if (!pressing) return false;
+bool Interaction::Impl::keepPressingContact(const World& w, uint32_t hand, int bone, double reach) {
+  const int index = boneContact[bone];
+  if (index < 0) return false;  // none, or contacts with several bodies
+  Contact& c = contacts[index];
+  if (!c.anchored || c.passive) return false;
   const Hand& h = hands[hand];
   const Aabb box = h.shapes.bones[bone]->bounds(h.tracked.bones[bone]).inflated(reach);
   for (BodyId b : dynamicBodies) {
-    if (b != pressing->body && w.bounds(b).overlaps(box)) return false;
+    if (b != c.body && w.bounds(b).overlaps(box)) return false;
   }
-  pressing->seen = true;
+  c.seen = true;
   return true;
 }
 

@@ -158,3 +158,65 @@ TEST(Manipulation, DISABLED_OneJengaBlockIsPushedOutWhileTheTowerStands) {
 
 }  // namespace
 }  // namespace grip
+
+namespace grip {
+namespace {
+
+using namespace scenarios;
+
+// Thumb and index pinch a cylinder (radius 2 cm, a 32-sided prism, axis along z) across its
+// curved side, in zero gravity. The index fingertip then moves 1 cm along +y while the thumb
+// stays: the cylinder rolls between them about its own axis by about dy / (2 R) = 0.25 rad, its
+// centre following by dy / 2, as between two sticking fingertips.
+TEST(Manipulation, OneFingerMovingTangentiallySpinsAPinchedCylinder) {
+  World w;
+  w.setGravity(Vec3::Zero());
+  const double radius = 0.02, half = 0.03;
+  std::vector<Vec3> pts;
+  for (int i = 0; i < 32; ++i) {
+    const double a = 2.0 * kPi * i / 32.0;
+    for (double z : {-half, half}) pts.emplace_back(radius * std::cos(a), radius * std::sin(a), z);
+  }
+  BodyDef bd;
+  bd.shape = Shape::convexHull(pts);
+  bd.mass = 0.05;
+  bd.position = Vec3(0.0, 0.5, 0.0);
+  const BodyId cyl = w.createBody(bd);
+  Interaction ix;
+  HandDef hd;
+  const HandId h = ix.addHand(hd);
+  const Vec3 c = w.centerOfMass(cyl);
+  const double depth = 0.003;
+  auto pinch = [&](double dy) {
+    HandPose p = parkedHand(hd);
+    pressBone(p, hd, boneIndex(Finger::Thumb, 2), c - radius * Vec3::UnitX(), -Vec3::UnitX(),
+              Vec3::UnitZ(), depth);
+    pressBone(p, hd, boneIndex(Finger::Index, 2), c + radius * Vec3::UnitX() + Vec3(0, dy, 0),
+              Vec3::UnitX(), Vec3::UnitZ(), depth);
+    ix.setHandPose(h, p);
+  };
+  for (int i = 0; i < 20; ++i) {
+    pinch(0.0);
+    ix.step(w, kDt);
+  }
+  const Quat q0 = w.pose(cyl).q;
+  const Vec3 p0 = w.centerOfMass(cyl);
+  const double dy = 0.01;
+  for (int i = 1; i <= 60; ++i) {
+    pinch(dy * i / 60.0);
+    ix.step(w, kDt);
+  }
+  for (int i = 0; i < 30; ++i) {
+    pinch(dy);
+    ix.step(w, kDt);
+  }
+  const Eigen::AngleAxisd turn(w.pose(cyl).q * q0.conjugate());
+  const Vec3 rot = turn.angle() * turn.axis();
+  EXPECT_NEAR(rot.z(), dy / (2.0 * radius), 0.08);  // rolls about its own axis (+z for +y at +x)
+  EXPECT_LT(std::hypot(rot.x(), rot.y()), 0.03);
+  EXPECT_NEAR(w.centerOfMass(cyl).y() - p0.y(), 0.5 * dy, 0.002);
+  EXPECT_EQ(ix.stats().pressingContacts, 2);
+}
+
+}  // namespace
+}  // namespace grip
