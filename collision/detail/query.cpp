@@ -7,6 +7,7 @@
 #include <string>
 
 #include "collision/detail/convex.hpp"
+#include "collision/sdf.hpp"
 #include "core/error.hpp"
 
 namespace grip {
@@ -363,6 +364,25 @@ bool exposedExit(const Shape& s, uint32_t i, const Vec3& x, SurfacePoint& out) {
   return found;
 }
 
+// A compound baked by the voxel tool answers from its signed-distance field: the exact surface
+// (not the boxes' staircase) and a smooth normal. The child is the box nearest that point.
+SurfacePoint closestFromSdf(const Shape& s, const SignedDistanceField& f, const Transform& t,
+                            const Vec3& xl) {
+  SurfacePoint out;
+  out.distance = f.distance(xl);
+  const Vec3 p = f.closestPoint(xl);
+  out.point = t.apply(p);
+  out.normal = t.rotate(f.normal(p));
+  double nearest = kInf;
+  const double reach = 2.0 * f.spacing();
+  s.tree().query(Aabb{p, p}.inflated(reach), [&](int32_t i) {
+    const CompoundChild& c = s.children()[static_cast<size_t>(i)];
+    const double d = std::abs(closestShape(*c.shape, c.local, p).distance);
+    if (d < nearest) nearest = d, out.child = static_cast<uint32_t>(i);
+  });
+  return out;
+}
+
 }  // namespace
 
 SurfacePoint closestPoint(const Shape& s, const Transform& t, const Vec3& x) {
@@ -372,8 +392,8 @@ SurfacePoint closestPoint(const Shape& s, const Transform& t, const Vec3& x) {
   // Inside, a child's nearest face may be shared with a neighbour (voxel boxes) and so not
   // on the union's surface: then the nearest exposed face plane of the containing children
   // is used (an approximation; a baked SDF gives exact answers).
-  // TODO(sdf): answer from s.sdf() once collision/sdf.hpp exists.
   const Vec3 xl = t.applyInverse(x);
+  if (const SignedDistanceField* f = s.sdf()) return closestFromSdf(s, *f, t, xl);
   SurfacePoint best;
   best.distance = kInf;
   for (uint32_t i = 0; i < s.children().size(); ++i) {
