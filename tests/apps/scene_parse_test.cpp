@@ -138,12 +138,20 @@ TEST(SceneParse, BadOverridesAreRefused) {
   EXPECT_EQ(err("bodies[9].mass=1"), "--set bodies[9].mass: bodies has 5 elements, no index 9");
   EXPECT_EQ(err("bodies.x.mass=1"),
             "--set bodies.x.mass: bodies is an array: expected an index, got \"x\"");
-  EXPECT_EQ(err("nothing.here=1"), "--set nothing.here: nothing does not exist");
+  EXPECT_EQ(err("duration=1e400"), "--set duration: value out of range: 1e400");
   EXPECT_EQ(err("duration.x=1"), "--set duration.x: duration is not an object or array");
   // An unknown final key is caught by the parser, with its path.
   json doc = minimal();
   applyOverride(doc, "world.substep=8");
   EXPECT_EQ(errorOf(doc), "world.substep: unknown field");
+  // Missing objects on the way are created; a made-up one is then refused by the parser.
+  doc = minimal();
+  applyOverride(doc, "nothing.here=1");
+  EXPECT_EQ(errorOf(doc), "nothing: unknown field");
+  doc = minimal();
+  doc.erase("world");
+  applyOverride(doc, "world.hz=240");
+  EXPECT_DOUBLE_EQ(parseScene(doc).dt, 1.0 / 240.0);
 }
 
 TEST(SceneParse, InvalidJsonTextIsRefused) {
@@ -158,6 +166,19 @@ TEST(SceneParse, InvalidJsonTextIsRefused) {
     FAIL();
   } catch (const Error& e) {
     EXPECT_STREQ(e.what(), "/nonexistent/scene.json: cannot open scene file");
+  }
+  try {
+    readSceneFile("/");
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_STREQ(e.what(), "/: is a directory, not a scene file");
+  }
+  try {
+    parseJson("[1e400]", "big.json");
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_EQ(std::string(e.what()).rfind("big.json: invalid JSON: number overflow", 0), 0u)
+        << e.what();
   }
 }
 

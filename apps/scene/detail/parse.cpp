@@ -1,6 +1,7 @@
 // Scene documents -> Scene, with every error naming its JSON path.
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <map>
 #include <set>
@@ -529,10 +530,17 @@ json parseJson(const std::string& text, const std::string& origin) {
     std::string what = e.what();
     const auto at = what.find("parse error");
     throw Error(origin, "invalid JSON: " + (at == std::string::npos ? what : what.substr(at)));
+  } catch (const json::exception& e) {  // e.g. a number out of range
+    std::string what = e.what();
+    const auto at = what.find("] ");
+    throw Error(origin, "invalid JSON: " + (at == std::string::npos ? what : what.substr(at + 2)));
   }
 }
 
 json readSceneFile(const std::string& path) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec))
+    throw Error(path, "is a directory, not a scene file");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw Error(path, "cannot open scene file");
   std::ostringstream ss;
@@ -570,6 +578,8 @@ void applyOverride(json& doc, const std::string& keyValue) {
     value = json::parse(text);
   } catch (const json::parse_error&) {
     value = text;  // a bare word: a string
+  } catch (const json::exception&) {
+    throw Error(where, "value out of range: " + text);
   }
   json* node = &doc;
   std::string path;
@@ -589,8 +599,9 @@ void applyOverride(json& doc, const std::string& keyValue) {
       path = index(path, i);
       node = &(*node)[i];
     } else if (node->is_object()) {
+      // Missing objects on the way are created (the parser refuses keys it does not know).
       path = key(path, tok);
-      if (!last && !node->contains(tok)) throw Error(where, path + " does not exist");
+      if (!last && !node->contains(tok)) (*node)[tok] = json::object();
       node = &(*node)[tok];
     } else {
       throw Error(where,
