@@ -2,6 +2,7 @@
 // and the recording is complete, parseable and never left looking complete on failure.
 #include <gtest/gtest.h>
 
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 
@@ -155,6 +156,23 @@ TEST(SceneRun, ADiskThatFillsLeavesNoCompleteLookingRecording) {
   EXPECT_FALSE(fs::exists(dir / "recording.jsonl"));
   EXPECT_FALSE(fs::exists(dir / "metrics.json"));
   fs::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace grip::scene
+
+namespace grip::scene {
+namespace {
+
+// docs/example_scene.json uses every field of the format once; it must parse, run and pass.
+TEST(SceneRun, TheDocumentedExampleRunsAndPasses) {
+  const char* src = std::getenv("GRIP_SOURCE_DIR");
+  if (!src) GTEST_SKIP() << "GRIP_SOURCE_DIR not set (run through ctest)";
+  const Scene s = parseScene(readSceneFile(std::string(src) + "/docs/example_scene.json"));
+  EXPECT_EQ(s.hands.size(), 3u);
+  const RunResult r = run(s);
+  EXPECT_EQ(r.checks.size(), 7u);
+  for (const CheckResult& c : r.checks) EXPECT_TRUE(c.passed) << c.label << ": " << c.detail;
 }
 
 }  // namespace
