@@ -450,6 +450,54 @@ json flatLift() {
 
 }  // namespace
 
+// A plank balanced on the palms of two hands, lifted 15 cm together while the hands tilt it by
+// 10 degrees and back (thesis 4: balance an object midair with two hands).
+json balanceTwoHands() {
+  json s = base("balance_two_hands",
+                "A 40 cm plank (0.3 kg) lies across the palms of two hands, which lift it 15 cm "
+                "together, tilting it 10 degrees and back (thesis 4: balance an object midair with "
+                "two hands).",
+                3.0);
+  const double hx = 0.2, hy = 0.01, hz = 0.04, y0 = 0.5;
+  s["bodies"] = {boxBody("plank", hx, hy, hz, 0.3, Vec3(0, y0, 0))};
+  json right = json::array(), left = json::array();
+  auto at = [&](double t, double lift, double degrees) {
+    const Mat3 rot = Eigen::AngleAxisd(degrees * kPi / 180.0, Vec3(0, 0, 1)).toRotationMatrix();
+    const Vec3 c(0, y0 + lift, 0), down = rot * Vec3(0, -1, 0), along = rot * Vec3(0, 0, 1);
+    const double depth = 0.003;
+    right.push_back(pressKey(t, {press("palm", c + rot * Vec3(0.12, -hy, 0), down, along, depth)}));
+    left.push_back(pressKey(t, {press("palm", c + rot * Vec3(-0.12, -hy, 0), down, along, depth)}));
+  };
+  at(0.0, 0.0, 0.0);
+  at(0.5, 0.0, 0.0);
+  for (int i = 1; i <= 16; ++i) {
+    const double u = i / 16.0, e = u * u * (3.0 - 2.0 * u);
+    at(0.5 + 2.0 * u, 0.15 * e, 10.0 * std::sin(kPi * e));
+  }
+  at(3.0, 0.15, 0.0);
+  s["hands"] = {{{"name", "right"}, {"keyframes", right}},
+                {{"name", "left"}, {"side", "left"}, {"keyframes", left}}};
+  s["checks"] = {{{"label", "the plank rode up 15 cm"},
+                  {"kind", "displacement"},
+                  {"body", "plank"},
+                  {"axis", v3(0, 1, 0)},
+                  {"min", 0.13},
+                  {"max", 0.16}},
+                 {{"label", "it stayed on the hands"},
+                  {"kind", "position"},
+                  {"body", "plank"},
+                  {"min", {-0.02, nullptr, -0.02}},
+                  {"max", {0.02, nullptr, 0.02}}},
+                 {{"label", "it is level again"},
+                  {"kind", "angle"},
+                  {"body", "plank"},
+                  {"axis", v3(0, 0, 1)},
+                  {"min", -3.0},
+                  {"max", 3.0}},
+                 {{"label", "it is at rest"}, {"kind", "speed"}, {"body", "plank"}, {"max", 0.02}}};
+  return s;
+}
+
 const std::vector<BuiltinScene>& builtinScenes() {
   static const std::vector<BuiltinScene> scenes = {
       {"grasp_lift", "pinch a cube on the floor and lift it 10 cm", graspLift},
@@ -465,6 +513,7 @@ const std::vector<BuiltinScene>& builtinScenes() {
       {"push_tilt", "push a figurine on a wooden floor: it tips over",
        [] { return pushFigurine(false); }},
       {"carry_turn", "carry a pinched cube 20 cm and turn it 45 degrees", carryTurn},
+      {"balance_two_hands", "lift and tilt a plank balanced on two palms", balanceTwoHands},
   };
   return scenes;
 }
