@@ -12,6 +12,8 @@ struct Command {
   std::function<int()> run;
 };
 Command addDemoCommand(CLI::App& app);
+Command addRunCommand(CLI::App& app);
+Command addScenesCommand(CLI::App& app);
 #ifdef GRIP_HAVE_VOXEL
 Command addPrepCommand(CLI::App& app);
 #endif

@@ -11,6 +11,8 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   std::vector<grip::cli::Command> commands;
   commands.push_back(grip::cli::addDemoCommand(app));
+  commands.push_back(grip::cli::addRunCommand(app));
+  commands.push_back(grip::cli::addScenesCommand(app));
 #ifdef GRIP_HAVE_VOXEL
   commands.push_back(grip::cli::addPrepCommand(app));
 #endif

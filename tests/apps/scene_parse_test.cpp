@@ -1,0 +1,199 @@
+// Scene files: valid documents parse into the engine's defs; invalid ones are refused with the
+// JSON path of the bad value; --set overrides edit the document by path.
+#include <gtest/gtest.h>
+
+#include <string>
+
+#include "scene/scene.hpp"
+
+namespace grip::scene {
+namespace {
+
+using nlohmann::json;
+
+json minimal() {
+  return json::parse(R"({
+    "grip_scene": 1,
+    "name": "t",
+    "duration": 0.5,
+    "world": {"gravity": [0, -9.81, 0], "hz": 120, "substeps": 2, "iterations": 1},
+    "materials": {"wood": {"staticFriction": 0.4, "dynamicFriction": 0.3, "density": 600}},
+    "bodies": [
+      {"name": "floor", "type": "static", "shape": {"type": "plane", "normal": [0, 1, 0], "offset": 0}},
+      {"name": "a", "shape": {"type": "box", "halfExtents": [0.1, 0.2, 0.3]}, "position": [0, 1, 0],
+       "orientation": {"axis": [0, 1, 0], "degrees": 90}, "material": "wood"},
+      {"name": "b", "shape": {"type": "sphere", "radius": 0.1}, "mass": 2, "linearVelocity": [1, 0, 0]},
+      {"name": "c", "shape": {"type": "capsule", "radius": 0.05, "halfHeight": 0.1}, "orientation": [1, 0, 0, 0]},
+      {"name": "d", "shape": {"type": "hull", "points": [[0,0,0],[0.1,0,0],[0,0.1,0],[0,0,0.1]]}}
+    ],
+    "interaction": {"method": "kinematic", "gamma": 500, "patchSamples": 5},
+    "hands": [{"name": "h", "side": "left", "keyframes": [
+      {"time": 0, "palm": {"position": [0, 0.5, 0]}, "pose": "pinch"},
+      {"time": 1, "palm": {"position": [0, 0.6, 0]}, "pose": "open"}]}],
+    "checks": [{"kind": "speed", "body": "b", "max": 10}]
+  })");
+}
+
+// The message of the error parsing `doc` throws ("" when it parses).
+std::string errorOf(const json& doc) {
+  try {
+    parseScene(doc);
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(SceneParse, AValidSceneFillsTheDefs) {
+  const Scene s = parseScene(minimal());
+  EXPECT_EQ(s.name, "t");
+  EXPECT_DOUBLE_EQ(s.dt, 1.0 / 120.0);
+  EXPECT_EQ(s.steps(), 60);
+  EXPECT_EQ(s.world.substeps, 2);
+  ASSERT_EQ(s.bodies.size(), 5u);
+  EXPECT_EQ(s.bodies[0].def.type, BodyType::Static);
+  EXPECT_DOUBLE_EQ(s.bodies[1].def.material.staticFriction, 0.4);
+  EXPECT_DOUBLE_EQ(s.bodies[1].def.material.density, 600.0);
+  EXPECT_NEAR(
+      s.bodies[1].def.orientation.angularDistance(Quat(Eigen::AngleAxisd(kPi / 2, Vec3::UnitY()))),
+      0.0, 1e-12);
+  EXPECT_DOUBLE_EQ(s.bodies[2].def.mass, 2.0);
+  EXPECT_EQ(s.bodies[2].def.linearVelocity, Vec3(1, 0, 0));
+  EXPECT_EQ(s.interaction.method, InteractionMethod::Kinematic);
+  EXPECT_DOUBLE_EQ(s.interaction.gamma, 500.0);
+  ASSERT_EQ(s.hands.size(), 1u);
+  EXPECT_EQ(s.hands[0].def.side, Handedness::Left);
+  EXPECT_EQ(s.hands[0].keys[0].pose, GraspPose::Pinch);
+  ASSERT_EQ(s.checks.size(), 1u);
+  EXPECT_EQ(s.checks[0].bodies, std::vector<int>{2});
+}
+
+TEST(SceneParse, ErrorsNameTheJsonPath) {
+  struct Case {
+    std::string key, value, expected;
+  };
+  const std::vector<Case> cases = {
+      {"bodies[1].shape.halfExtents[1]", "-1", "bodies[1].shape.halfExtents[1]: must be positive"},
+      {"bodies[2].mass", "0", "bodies[2].mass: must be positive"},
+      {"bodies[2].shape.radius", "\"big\"", "bodies[2].shape.radius: must be a number"},
+      {"bodies[1].shape.type", "\"cone\"", "bodies[1].shape.type: must be one of box, sphere"},
+      {"bodies[1].material", "\"steel\"", "bodies[1].material: unknown material \"steel\""},
+      {"bodies[1].colour", "1", "bodies[1].colour: unknown field"},
+      {"bodies[3].position", "[1, 2]", "bodies[3].position: must be an array of 3 numbers"},
+      {"world.substeps", "0", "world.substeps: must be between 1 and 1000"},
+      {"world.substeps", "2.5", "world.substeps: must be an integer"},
+      {"world.dt", "0.01", "world.dt: give either hz or dt"},
+      {"interaction.method", "\"magic\"", "interaction.method: must be one of coulomb, kinematic"},
+      {"hands[0].keyframes[1].time", "0", "hands[0].keyframes[1].time: must be later"},
+      {"hands[0].keyframes[0].pose", "\"fist\"", "hands[0].keyframes[0].pose: must be one of open"},
+      {"checks[0].body", "\"zz\"", "checks[0].body: unknown body \"zz\""},
+      {"grip_scene", "2", "grip_scene: unsupported version 2"},
+      {"duration", "-1", "duration: must be positive"},
+      {"bodies[0].type", "\"dynamic\"", "bodies[0].type: a plane must be static"},
+      {"materials.wood.dynamicFriction", "0.9", "materials.wood.dynamicFriction: must not exceed"},
+      {"bodies[4].shape.points", "[[0,0,0],[1,0,0],[0,1,0],[1,1,0]]", "bodies[4].shape.points:"},
+  };
+  for (const Case& c : cases) {
+    json doc = minimal();
+    applyOverride(doc, c.key + "=" + c.value);
+    const std::string msg = errorOf(doc);
+    EXPECT_EQ(msg.rfind(c.expected, 0), 0u) << c.key << "=" << c.value << " gave: " << msg;
+  }
+  json doc = minimal();
+  doc.erase("duration");
+  EXPECT_EQ(errorOf(doc), "duration: is required");
+  doc = minimal();
+  doc["bodies"][2]["name"] = "a";
+  EXPECT_EQ(errorOf(doc), "bodies[2].name: duplicate body name \"a\"");
+}
+
+TEST(SceneParse, OverridesEditByPath) {
+  json doc = minimal();
+  applyOverride(doc, "world.substeps=8");
+  applyOverride(doc, "bodies[2].mass=3.5");
+  applyOverride(doc, "bodies.1.position=[0,2,0]");
+  applyOverride(doc, "interaction.method=coulomb");  // a bare word is a string
+  applyOverride(doc, "seed=42");                     // a new top-level field
+  const Scene s = parseScene(doc);
+  EXPECT_EQ(s.world.substeps, 8);
+  EXPECT_DOUBLE_EQ(s.bodies[2].def.mass, 3.5);
+  EXPECT_EQ(s.bodies[1].def.position, Vec3(0, 2, 0));
+  EXPECT_EQ(s.interaction.method, InteractionMethod::Friction);
+  EXPECT_EQ(s.seed, 42u);
+}
+
+TEST(SceneParse, BadOverridesAreRefused) {
+  auto err = [](const std::string& kv) -> std::string {
+    json doc = minimal();
+    try {
+      applyOverride(doc, kv);
+    } catch (const Error& e) {
+      return e.what();
+    }
+    return "";
+  };
+  EXPECT_EQ(err("world.substeps"),
+            "--set world.substeps: expected KEY=VALUE, e.g. world.substeps=8");
+  EXPECT_EQ(err("=3"), "--set =3: expected KEY=VALUE, e.g. world.substeps=8");
+  EXPECT_EQ(err("bodies[9].mass=1"), "--set bodies[9].mass: bodies has 5 elements, no index 9");
+  EXPECT_EQ(err("bodies.x.mass=1"),
+            "--set bodies.x.mass: bodies is an array: expected an index, got \"x\"");
+  EXPECT_EQ(err("duration=1e400"), "--set duration: value out of range: 1e400");
+  EXPECT_EQ(err("duration.x=1"), "--set duration.x: duration is not an object or array");
+  // An unknown final key is caught by the parser, with its path.
+  json doc = minimal();
+  applyOverride(doc, "world.substep=8");
+  EXPECT_EQ(errorOf(doc), "world.substep: unknown field");
+  // Missing objects on the way are created; a made-up one is then refused by the parser.
+  doc = minimal();
+  applyOverride(doc, "nothing.here=1");
+  EXPECT_EQ(errorOf(doc), "nothing: unknown field");
+  doc = minimal();
+  doc.erase("world");
+  applyOverride(doc, "world.hz=240");
+  EXPECT_DOUBLE_EQ(parseScene(doc).dt, 1.0 / 240.0);
+}
+
+TEST(SceneParse, InvalidJsonTextIsRefused) {
+  try {
+    parseJson("{\"grip_scene\": 1,", "x.json");
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_EQ(std::string(e.what()).rfind("x.json: invalid JSON: parse error", 0), 0u) << e.what();
+  }
+  try {
+    readSceneFile("/nonexistent/scene.json");
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_STREQ(e.what(), "/nonexistent/scene.json: cannot open scene file");
+  }
+  try {
+    readSceneFile("/");
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_STREQ(e.what(), "/: is a directory, not a scene file");
+  }
+  try {
+    parseJson("[1e400]", "big.json");
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_EQ(std::string(e.what()).rfind("big.json: invalid JSON: number overflow", 0), 0u)
+        << e.what();
+  }
+}
+
+TEST(SceneParse, EveryBuiltinSceneParses) {
+  ASSERT_GE(builtinScenes().size(), 6u);
+  for (const BuiltinScene& b : builtinScenes()) {
+    const json doc = b.make();
+    EXPECT_EQ(doc["name"], b.name);
+    EXPECT_NO_THROW(parseScene(doc)) << b.name;
+    // The printed document reads back to the same scene.
+    const json again = parseJson(doc.dump(2), b.name);
+    EXPECT_EQ(again, doc);
+  }
+  EXPECT_FALSE(builtinScene("no_such_scene").has_value());
+}
+
+}  // namespace
+}  // namespace grip::scene
