@@ -26,8 +26,7 @@ struct Pose {
 std::vector<Pose> pileLayout(int count) {
   World w;
   std::vector<Pose> out;
-  for (BodyId id : scenes::addBoxPile(w, count))
-    out.push_back({w.pose(id).p, w.pose(id).q, 0.1});
+  for (BodyId id : scenes::addBoxPile(w, count)) out.push_back({w.pose(id).p, w.pose(id).q, 0.1});
   return out;
 }
 
@@ -114,7 +113,8 @@ void runScene(benchmark::State& state, const std::vector<Pose>& layout, int step
     for (int s = 0; s < steps; ++s) {
       const auto t0 = std::chrono::steady_clock::now();
       e->step();
-      stepMs += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+      stepMs +=
+          std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
       for (size_t i = 0; i < e->boxCount(); ++i) wentBelow[i] |= e->position(i).y() < 0.0;
       drift = std::max(drift, (e->position(e->boxCount() - 1) - top0).norm());
     }
@@ -127,16 +127,30 @@ void runScene(benchmark::State& state, const std::vector<Pose>& layout, int step
   state.counters["drift_mm"] = drift * 1e3;
 }
 
-void BM_Peer_Pile1000_Grip(benchmark::State& s) { runScene<GripWorld>(s, pileLayout(1000), 180); }
+void BM_Peer_Pile1000_Grip(benchmark::State& s) {
+  runScene<GripWorld>(s, pileLayout(1000), 180);
+}
 void BM_Peer_Pile1000_Bullet(benchmark::State& s) {
   runScene<BulletWorld>(s, pileLayout(1000), 180);
 }
-void BM_Peer_Pile100_Grip(benchmark::State& s) { runScene<GripWorld>(s, pileLayout(100), 180); }
-void BM_Peer_Pile100_Bullet(benchmark::State& s) { runScene<BulletWorld>(s, pileLayout(100), 180); }
-void BM_Peer_Stack20_Grip(benchmark::State& s) { runScene<GripWorld>(s, stackLayout(20), 600); }
-void BM_Peer_Stack20_Bullet(benchmark::State& s) { runScene<BulletWorld>(s, stackLayout(20), 600); }
-void BM_Peer_Stack10_Grip(benchmark::State& s) { runScene<GripWorld>(s, stackLayout(10), 600); }
-void BM_Peer_Stack10_Bullet(benchmark::State& s) { runScene<BulletWorld>(s, stackLayout(10), 600); }
+void BM_Peer_Pile100_Grip(benchmark::State& s) {
+  runScene<GripWorld>(s, pileLayout(100), 180);
+}
+void BM_Peer_Pile100_Bullet(benchmark::State& s) {
+  runScene<BulletWorld>(s, pileLayout(100), 180);
+}
+void BM_Peer_Stack20_Grip(benchmark::State& s) {
+  runScene<GripWorld>(s, stackLayout(20), 600);
+}
+void BM_Peer_Stack20_Bullet(benchmark::State& s) {
+  runScene<BulletWorld>(s, stackLayout(20), 600);
+}
+void BM_Peer_Stack10_Grip(benchmark::State& s) {
+  runScene<GripWorld>(s, stackLayout(10), 600);
+}
+void BM_Peer_Stack10_Bullet(benchmark::State& s) {
+  runScene<BulletWorld>(s, stackLayout(10), 600);
+}
 
 BENCHMARK(BM_Peer_Pile1000_Grip)->Unit(benchmark::kSecond)->Iterations(3);
 BENCHMARK(BM_Peer_Pile1000_Bullet)->Unit(benchmark::kSecond)->Iterations(3);

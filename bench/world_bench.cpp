@@ -55,7 +55,8 @@ void BM_World_PileDrop(benchmark::State& state) {
     scenes::addBoxPile(w, static_cast<int>(state.range(0)));
     const auto t0 = std::chrono::steady_clock::now();
     for (int i = 0; i < steps; ++i) w.step(1.0 / 60.0);
-    stepMs += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    stepMs +=
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     ++runs;
   }
   state.counters["ms_per_step"] = stepMs / (runs * steps);

@@ -8,10 +8,10 @@
 namespace grip {
 
 struct RayHit {
-  double distance = 0.0;       // along the unit direction
-  Vec3 point = Vec3::Zero();   // world
-  Vec3 normal = Vec3::UnitY(); // world, outward surface normal at the hit
-  uint32_t child = 0;          // compound child hit (0 otherwise)
+  double distance = 0.0;        // along the unit direction
+  Vec3 point = Vec3::Zero();    // world
+  Vec3 normal = Vec3::UnitY();  // world, outward surface normal at the hit
+  uint32_t child = 0;           // compound child hit (0 otherwise)
 };
 
 // First hit of the ray origin + t*dir, 0 <= t <= maxDistance, dir unit length. A ray starting
@@ -23,9 +23,9 @@ bool rayCastChild(const Shape& s, const Transform& t, uint32_t child, const Vec3
                   const Vec3& dir, double maxDistance, RayHit& hit);
 
 struct SurfacePoint {
-  Vec3 point = Vec3::Zero();   // world, closest point on the surface
-  Vec3 normal = Vec3::UnitY(); // world, outward
-  double distance = 0.0;       // signed: negative when the query point is inside
+  Vec3 point = Vec3::Zero();    // world, closest point on the surface
+  Vec3 normal = Vec3::UnitY();  // world, outward
+  double distance = 0.0;        // signed: negative when the query point is inside
   uint32_t child = 0;
 };
 

@@ -37,11 +37,21 @@ struct Transform {
   }
 };
 
-inline bool isFinite(double x) { return std::isfinite(x); }
-inline bool isFinite(const Vec3& v) { return v.allFinite(); }
-inline bool isFinite(const Quat& q) { return q.coeffs().allFinite(); }
-inline bool isFinite(const Mat3& m) { return m.allFinite(); }
-inline bool isFinite(const Transform& t) { return isFinite(t.p) && isFinite(t.q); }
+inline bool isFinite(double x) {
+  return std::isfinite(x);
+}
+inline bool isFinite(const Vec3& v) {
+  return v.allFinite();
+}
+inline bool isFinite(const Quat& q) {
+  return q.coeffs().allFinite();
+}
+inline bool isFinite(const Mat3& m) {
+  return m.allFinite();
+}
+inline bool isFinite(const Transform& t) {
+  return isFinite(t.p) && isFinite(t.q);
+}
 
 inline Mat3 skew(const Vec3& v) {
   Mat3 m;

@@ -48,7 +48,7 @@ struct BodyDef {
   Quat orientation = Quat::Identity();
   Vec3 linearVelocity = Vec3::Zero();   // of the centre of mass
   Vec3 angularVelocity = Vec3::Zero();  // world frame
-  double mass = 0.0;  // > 0 overrides density (inertia scaled to match); 0: from density
+  double mass = 0.0;            // > 0 overrides density (inertia scaled to match); 0: from density
   double linearDamping = 0.0;   // 1/s
   double angularDamping = 0.0;  // 1/s
   double gravityScale = 1.0;
@@ -61,18 +61,18 @@ struct BodyDef {
 
 struct WorldDef {
   Vec3 gravity = Vec3(0.0, -9.81, 0.0);
-  int substeps = 4;          // solver substeps per step (soft step solver)
-  int relaxIterations = 1;   // velocity passes without position bias per substep (the last
-                             // one propagates support from the ground up: shock propagation)
+  int substeps = 4;                 // solver substeps per step (soft step solver)
+  int relaxIterations = 1;          // velocity passes without position bias per substep (the last
+                                    // one propagates support from the ground up: shock propagation)
   int positionIterations = 2;       // position projection passes after the velocities
   double positionCorrection = 0.2;  // fraction of the overlap the projection removes per pass
   double positionSlop = 0.0005;     // m, overlap the projection leaves alone
-  double contactHertz = 30.0;         // contact stiffness (capped at a quarter substep rate)
+  double contactHertz = 30.0;       // contact stiffness (capped at a quarter substep rate)
   double contactDampingRatio = 10.0;  // heavily damped: no bounce from position correction
   double maxPushoutVelocity = 3.0;    // m/s, cap on the speed that resolves overlap
   double restitutionThreshold = 1.0;  // m/s, slower impacts do not bounce
   double speculativeDistance = 0.02;  // m, contacts made this far before touching
-  double linearSlop = 0.005;  // m, overlap within which velocity contacts stay rigid (no push)
+  double linearSlop = 0.005;    // m, overlap within which velocity contacts stay rigid (no push)
   double stickVelocity = 0.01;  // m/s, tangential speed below which a contact may stick again
   bool enableSleep = true;
   double sleepLinearVelocity = 0.05;   // m/s
@@ -138,15 +138,15 @@ class World {
 
   // Body state.
   BodyType bodyType(BodyId id) const;
-  Transform pose(BodyId id) const;       // of the body origin
-  Vec3 centerOfMass(BodyId id) const;    // world
+  Transform pose(BodyId id) const;     // of the body origin
+  Vec3 centerOfMass(BodyId id) const;  // world
   Vec3 localCenterOfMass(BodyId id) const;
   Vec3 linearVelocity(BodyId id) const;  // of the centre of mass
   Vec3 angularVelocity(BodyId id) const;
   Vec3 velocityAtPoint(BodyId id, const Vec3& worldPoint) const;
-  double mass(BodyId id) const;          // 0 for static and kinematic bodies
+  double mass(BodyId id) const;  // 0 for static and kinematic bodies
   double inverseMass(BodyId id) const;
-  Mat3 inertiaWorld(BodyId id) const;    // about the centre of mass
+  Mat3 inertiaWorld(BodyId id) const;  // about the centre of mass
   Mat3 inverseInertiaWorld(BodyId id) const;
   const Shape& shape(BodyId id) const;
   ShapePtr shapePtr(BodyId id) const;
@@ -166,8 +166,7 @@ class World {
   void wake(BodyId id);
 
   // Queries (sensors are skipped by ray casts and overlaps).
-  std::optional<WorldRayHit> rayCast(const Vec3& origin, const Vec3& dir,
-                                     double maxDistance) const;
+  std::optional<WorldRayHit> rayCast(const Vec3& origin, const Vec3& dir, double maxDistance) const;
   // Ray cast against one body only (child: one compound child, or -1 for all).
   std::optional<RayHit> rayCastBody(BodyId id, const Vec3& origin, const Vec3& dir,
                                     double maxDistance, int child = -1) const;

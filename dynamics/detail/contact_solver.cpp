@@ -114,8 +114,8 @@ void solveFriction(SolverManifold& m, SolverBody& A, SolverBody& B, Moves moves,
   }
   if (m.count > 1) {
     const double oldT = twist.impulse, maxT = mu * normal * m.twistRadius;
-    const double nt = std::clamp(oldT - rowMass(A, B, twist, moves) * rowVelocity(A, B, twist),
-                                 -maxT, maxT);
+    const double nt =
+        std::clamp(oldT - rowMass(A, B, twist, moves) * rowVelocity(A, B, twist), -maxT, maxT);
     twist.impulse = nt;
     applyRow(A, B, twist, nt - oldT, moves);
   }
@@ -151,8 +151,8 @@ void solveNormal(SolverManifold& m, SolverBody& A, SolverBody& B, const SolveCon
     if (moves == Moves::Both) continue;
     for (int j = 0; j < m.count; ++j) {
       const SolverRow& q = m.p[j].normal;
-      oneSided[k][j] = moves == Moves::OnlyA ? A.invMass + q.angA.dot(r.dwA)
-                                             : B.invMass + q.angB.dot(r.dwB);
+      oneSided[k][j] =
+          moves == Moves::OnlyA ? A.invMass + q.angA.dot(r.dwA) : B.invMass + q.angB.dot(r.dwB);
     }
   }
   const int sweeps = m.count > 1 ? ctx.manifoldSweeps : 1;
@@ -187,7 +187,9 @@ inline void solveManifold(SolverManifold& m, std::vector<SolverBody>& bodies,
   if (m.warm) solveNormal(m, A, B, ctx, useBias, moves);
 }
 
-double combineFriction(double a, double b) { return std::sqrt(a * b); }
+double combineFriction(double a, double b) {
+  return std::sqrt(a * b);
+}
 
 }  // namespace
 
@@ -382,7 +384,8 @@ void World::Impl::projectPositions() {
         const double s = m.p[k].separation + r.lin.dot(B.dp - A.dp) + r.angB.dot(B.dtheta) -
                          r.angA.dot(A.dtheta);
         if (s >= -def.positionSlop) continue;
-        const double push = -r.mass * std::max(def.positionCorrection * (s + def.positionSlop), -0.05);
+        const double push =
+            -r.mass * std::max(def.positionCorrection * (s + def.positionSlop), -0.05);
         A.dp -= (A.invMass * push) * r.lin;
         B.dp += (B.invMass * push) * r.lin;
         A.dtheta -= push * r.dwA, A.correction -= push * r.dwA;
@@ -414,7 +417,8 @@ void World::Impl::computeLevels() {
   constexpr int kFree = 1 << 30;
   levels.assign(n, kFree);
   adjacencyStart.assign(n + 1, 0);
-  for (const SolverManifold& m : solverManifolds) ++adjacencyStart[m.a + 1], ++adjacencyStart[m.b + 1];
+  for (const SolverManifold& m : solverManifolds)
+    ++adjacencyStart[m.a + 1], ++adjacencyStart[m.b + 1];
   for (int i = 0; i < n; ++i) adjacencyStart[i + 1] += adjacencyStart[i];
   adjacency.resize(adjacencyStart[n]);
   fill.assign(adjacencyStart.begin(), adjacencyStart.end() - 1);

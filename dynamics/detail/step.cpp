@@ -110,10 +110,9 @@ bool World::Impl::collide(double dt) {
       ContactManifold c;
       c.bodyA = ia, c.bodyB = ib, c.m = m;
       // Carry warm-start impulses over from last step by matching feature ids.
-      auto it = std::lower_bound(previous.begin(), previous.end(), c,
-                                 [](const ContactManifold& x, const ContactManifold& y) {
-                                   return x.keyLess(y);
-                                 });
+      auto it = std::lower_bound(
+          previous.begin(), previous.end(), c,
+          [](const ContactManifold& x, const ContactManifold& y) { return x.keyLess(y); });
       const bool found = it != previous.end() && !c.keyLess(*it) && !it->keyLess(c);
       for (int k = 0; k < m.pointCount; ++k) {
         c.touching |= m.points[k].separation < kTouching;
@@ -126,7 +125,8 @@ bool World::Impl::collide(double dt) {
       }
       // Speculative contacts slow bodies before they touch: remember how fast they closed.
       const Vec3& x = m.points[0].position;
-      const double closing = -((B.v + B.w.cross(x - B.com)) - (A.v + A.w.cross(x - A.com))).dot(m.normal);
+      const double closing =
+          -((B.v + B.w.cross(x - B.com)) - (A.v + A.w.cross(x - A.com))).dot(m.normal);
       c.approachSpeed = std::max(closing, found && !it->touching ? it->approachSpeed : 0.0);
       if (c.touching && A.awake != B.awake) {
         const uint32_t sleeper = A.awake ? ib : ia;
@@ -143,8 +143,8 @@ bool World::Impl::collide(double dt) {
   for (const ContactManifold& c : previous)
     if (carriesOver(bodies, c)) contacts.push_back(c);
   auto less = [](const ContactManifold& x, const ContactManifold& y) { return x.keyLess(y); };
-  std::inplace_merge(contacts.begin(), contacts.begin() + static_cast<long>(fresh),
-                     contacts.end(), less);
+  std::inplace_merge(contacts.begin(), contacts.begin() + static_cast<long>(fresh), contacts.end(),
+                     less);
   if (woke) {  // collide again from the same warm-start memory
     std::swap(previous, contacts);
     previousSensorPairs.swap(sensorPairs);
@@ -200,8 +200,8 @@ void World::Impl::contactEvents() {
                       previousSensorPairs.end(), std::back_inserter(diff));
   for (const auto& p : diff) sensorBegin.push_back({idOf(p.sensor), idOf(p.visitor)});
   diff.clear();
-  std::set_difference(previousSensorPairs.begin(), previousSensorPairs.end(),
-                      sensorPairs.begin(), sensorPairs.end(), std::back_inserter(diff));
+  std::set_difference(previousSensorPairs.begin(), previousSensorPairs.end(), sensorPairs.begin(),
+                      sensorPairs.end(), std::back_inserter(diff));
   for (const auto& p : diff)
     if (bodies[p.sensor].alive && bodies[p.visitor].alive)
       sensorEnd.push_back({idOf(p.sensor), idOf(p.visitor)});
@@ -236,7 +236,8 @@ void World::Impl::updateSleep(double dt) {
   islandSleepTime.assign(n, 1e300);
   for (uint32_t i : awakeBodies) {
     Body& b = bodies[i];
-    const bool still = b.v.norm() < def.sleepLinearVelocity && b.w.norm() < def.sleepAngularVelocity;
+    const bool still =
+        b.v.norm() < def.sleepLinearVelocity && b.w.norm() < def.sleepAngularVelocity;
     b.sleepTime = (still && b.allowSleep && b.isDynamic()) ? b.sleepTime + dt : 0.0;
     const uint32_t r = findRoot(parent, i);
     islandSleepTime[r] = std::min(islandSleepTime[r], b.sleepTime);

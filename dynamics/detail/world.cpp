@@ -66,7 +66,9 @@ const Body& World::Impl::body(BodyId id, const char* field) const {
   return const_cast<Impl*>(this)->body(id, field);
 }
 
-void World::Impl::refreshBounds(Body& b) const { b.aabb = b.shape->bounds(b.pose); }
+void World::Impl::refreshBounds(Body& b) const {
+  b.aabb = b.shape->bounds(b.pose);
+}
 
 void World::Impl::wakeBody(uint32_t slot) {
   Body& b = bodies[slot];
@@ -188,10 +190,18 @@ void World::addForce(BodyId id, const Vec3& f, ForceMode mode) {
   requireFinite(f, "addForce.force");
   if (!b.isDynamic()) return;
   switch (mode) {
-    case ForceMode::Force: b.force += f; break;
-    case ForceMode::Acceleration: b.linearAccel += f; break;
-    case ForceMode::Impulse: b.v += b.invMass * f; break;
-    case ForceMode::VelocityChange: b.v += f; break;
+    case ForceMode::Force:
+      b.force += f;
+      break;
+    case ForceMode::Acceleration:
+      b.linearAccel += f;
+      break;
+    case ForceMode::Impulse:
+      b.v += b.invMass * f;
+      break;
+    case ForceMode::VelocityChange:
+      b.v += f;
+      break;
   }
   impl_->wakeBody(id.index);
 }
@@ -201,10 +211,18 @@ void World::addTorque(BodyId id, const Vec3& t, ForceMode mode) {
   requireFinite(t, "addTorque.torque");
   if (!b.isDynamic()) return;
   switch (mode) {
-    case ForceMode::Force: b.torque += t; break;
-    case ForceMode::Acceleration: b.angularAccel += t; break;
-    case ForceMode::Impulse: b.w += b.invInertiaWorld() * t; break;
-    case ForceMode::VelocityChange: b.w += t; break;
+    case ForceMode::Force:
+      b.torque += t;
+      break;
+    case ForceMode::Acceleration:
+      b.angularAccel += t;
+      break;
+    case ForceMode::Impulse:
+      b.w += b.invInertiaWorld() * t;
+      break;
+    case ForceMode::VelocityChange:
+      b.w += t;
+      break;
   }
   impl_->wakeBody(id.index);
 }
@@ -236,14 +254,24 @@ Vec3 World::accumulatedTorque(BodyId id) const {
 
 // ---- state --------------------------------------------------------------------------------
 
-BodyType World::bodyType(BodyId id) const { return impl_->body(id, "bodyType.id").type; }
-Transform World::pose(BodyId id) const { return impl_->body(id, "pose.id").pose; }
-Vec3 World::centerOfMass(BodyId id) const { return impl_->body(id, "centerOfMass.id").com; }
+BodyType World::bodyType(BodyId id) const {
+  return impl_->body(id, "bodyType.id").type;
+}
+Transform World::pose(BodyId id) const {
+  return impl_->body(id, "pose.id").pose;
+}
+Vec3 World::centerOfMass(BodyId id) const {
+  return impl_->body(id, "centerOfMass.id").com;
+}
 Vec3 World::localCenterOfMass(BodyId id) const {
   return impl_->body(id, "localCenterOfMass.id").localCom;
 }
-Vec3 World::linearVelocity(BodyId id) const { return impl_->body(id, "linearVelocity.id").v; }
-Vec3 World::angularVelocity(BodyId id) const { return impl_->body(id, "angularVelocity.id").w; }
+Vec3 World::linearVelocity(BodyId id) const {
+  return impl_->body(id, "linearVelocity.id").v;
+}
+Vec3 World::angularVelocity(BodyId id) const {
+  return impl_->body(id, "angularVelocity.id").w;
+}
 Vec3 World::velocityAtPoint(BodyId id, const Vec3& x) const {
   const Body& b = impl_->body(id, "velocityAtPoint.id");
   requireFinite(x, "velocityAtPoint.point");
@@ -253,7 +281,9 @@ double World::mass(BodyId id) const {
   const Body& b = impl_->body(id, "mass.id");
   return b.invMass > 0.0 ? 1.0 / b.invMass : 0.0;
 }
-double World::inverseMass(BodyId id) const { return impl_->body(id, "inverseMass.id").invMass; }
+double World::inverseMass(BodyId id) const {
+  return impl_->body(id, "inverseMass.id").invMass;
+}
 Mat3 World::inertiaWorld(BodyId id) const {
   const Body& b = impl_->body(id, "inertiaWorld.id");
   return rotateInertia(b.inertiaLocal, b.pose.q);
@@ -261,16 +291,30 @@ Mat3 World::inertiaWorld(BodyId id) const {
 Mat3 World::inverseInertiaWorld(BodyId id) const {
   return impl_->body(id, "inverseInertiaWorld.id").invInertiaWorld();
 }
-const Shape& World::shape(BodyId id) const { return *impl_->body(id, "shape.id").shape; }
-ShapePtr World::shapePtr(BodyId id) const { return impl_->body(id, "shapePtr.id").shape; }
+const Shape& World::shape(BodyId id) const {
+  return *impl_->body(id, "shape.id").shape;
+}
+ShapePtr World::shapePtr(BodyId id) const {
+  return impl_->body(id, "shapePtr.id").shape;
+}
 const MaterialDef& World::material(BodyId id) const {
   return impl_->body(id, "material.id").material;
 }
-const std::string& World::name(BodyId id) const { return impl_->body(id, "name.id").name; }
-uint64_t World::userData(BodyId id) const { return impl_->body(id, "userData.id").userData; }
-bool World::isAwake(BodyId id) const { return impl_->body(id, "isAwake.id").awake; }
-bool World::isSensor(BodyId id) const { return impl_->body(id, "isSensor.id").sensor; }
-Aabb World::bounds(BodyId id) const { return impl_->body(id, "bounds.id").aabb; }
+const std::string& World::name(BodyId id) const {
+  return impl_->body(id, "name.id").name;
+}
+uint64_t World::userData(BodyId id) const {
+  return impl_->body(id, "userData.id").userData;
+}
+bool World::isAwake(BodyId id) const {
+  return impl_->body(id, "isAwake.id").awake;
+}
+bool World::isSensor(BodyId id) const {
+  return impl_->body(id, "isSensor.id").sensor;
+}
+Aabb World::bounds(BodyId id) const {
+  return impl_->body(id, "bounds.id").aabb;
+}
 
 void World::setPose(BodyId id, const Vec3& p, const Quat& q) {
   Body& b = impl_->body(id, "setPose.id");
@@ -419,10 +463,18 @@ SurfacePoint World::closestPoint(BodyId id, const Vec3& x) const {
 
 // ---- bookkeeping --------------------------------------------------------------------------
 
-const std::vector<ContactEvent>& World::contactBeginEvents() const { return impl_->beginEvents; }
-const std::vector<ContactEvent>& World::contactEndEvents() const { return impl_->endEvents; }
-const std::vector<SensorEvent>& World::sensorBeginEvents() const { return impl_->sensorBegin; }
-const std::vector<SensorEvent>& World::sensorEndEvents() const { return impl_->sensorEnd; }
+const std::vector<ContactEvent>& World::contactBeginEvents() const {
+  return impl_->beginEvents;
+}
+const std::vector<ContactEvent>& World::contactEndEvents() const {
+  return impl_->endEvents;
+}
+const std::vector<SensorEvent>& World::sensorBeginEvents() const {
+  return impl_->sensorBegin;
+}
+const std::vector<SensorEvent>& World::sensorEndEvents() const {
+  return impl_->sensorEnd;
+}
 
 std::vector<BodyId> World::bodies() const {
   std::vector<BodyId> ids;
@@ -431,17 +483,31 @@ std::vector<BodyId> World::bodies() const {
     if (impl_->bodies[i].alive) ids.push_back(impl_->idOf(i));
   return ids;
 }
-int World::bodyCount() const { return impl_->aliveCount; }
-int World::contactConstraintCount() const { return impl_->constraintCount; }
-const StepStats& World::stats() const { return impl_->stats; }
-const WorldDef& World::def() const { return impl_->def; }
+int World::bodyCount() const {
+  return impl_->aliveCount;
+}
+int World::contactConstraintCount() const {
+  return impl_->constraintCount;
+}
+const StepStats& World::stats() const {
+  return impl_->stats;
+}
+const WorldDef& World::def() const {
+  return impl_->def;
+}
 void World::setGravity(const Vec3& g) {
   requireFinite(g, "setGravity.gravity");
   impl_->def.gravity = g;
 }
-Vec3 World::gravity() const { return impl_->def.gravity; }
-double World::time() const { return impl_->time; }
-uint64_t World::stepCount() const { return impl_->steps; }
+Vec3 World::gravity() const {
+  return impl_->def.gravity;
+}
+double World::time() const {
+  return impl_->time;
+}
+uint64_t World::stepCount() const {
+  return impl_->steps;
+}
 
 uint64_t World::stateHash() const {
   StateHash h;

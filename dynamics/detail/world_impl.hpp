@@ -17,14 +17,14 @@ struct Body {
   BodyType type = BodyType::Dynamic;
   ShapePtr shape;
   MaterialDef material;
-  Transform pose;                  // body origin
-  Vec3 localCom = Vec3::Zero();    // centre of mass in the body frame
-  Vec3 com = Vec3::Zero();         // world centre of mass
+  Transform pose;                // body origin
+  Vec3 localCom = Vec3::Zero();  // centre of mass in the body frame
+  Vec3 com = Vec3::Zero();       // world centre of mass
   Vec3 v = Vec3::Zero(), w = Vec3::Zero();
   double invMass = 0.0;
-  Mat3 inertiaLocal = Mat3::Zero();     // about the com, body frame
+  Mat3 inertiaLocal = Mat3::Zero();  // about the com, body frame
   Mat3 invInertiaLocal = Mat3::Zero();
-  Vec3 force = Vec3::Zero(), torque = Vec3::Zero();          // ForceMode::Force
+  Vec3 force = Vec3::Zero(), torque = Vec3::Zero();              // ForceMode::Force
   Vec3 linearAccel = Vec3::Zero(), angularAccel = Vec3::Zero();  // ForceMode::Acceleration
   double linearDamping = 0.0, angularDamping = 0.0, gravityScale = 1.0;
   bool sensor = false, allowSleep = true, awake = true;
@@ -71,12 +71,12 @@ struct ContactManifold {
 // Velocity-level state of one body inside the solver; index 0 is the immovable world.
 struct SolverBody {
   Vec3 v = Vec3::Zero(), w = Vec3::Zero();
-  Vec3 dp = Vec3::Zero();      // centre-of-mass displacement since the step began
-  Vec3 dtheta = Vec3::Zero();  // small rotation since the step began (for separations)
-  Quat dq = Quat::Identity();  // the same rotation, integrated exactly (for the pose)
+  Vec3 dp = Vec3::Zero();          // centre-of-mass displacement since the step began
+  Vec3 dtheta = Vec3::Zero();      // small rotation since the step began (for separations)
+  Quat dq = Quat::Identity();      // the same rotation, integrated exactly (for the pose)
   Vec3 correction = Vec3::Zero();  // rotation applied by the position projection
   double invMass = 0.0;
-  Mat3 invI = Mat3::Zero();    // world inverse inertia, fixed over the step
+  Mat3 invI = Mat3::Zero();  // world inverse inertia, fixed over the step
 };
 
 // One constraint row, prepared so that solving it costs a few dot products:
@@ -92,7 +92,7 @@ struct SolverRow {
 
 struct SolverPoint {
   SolverRow normal;
-  double separation = 0.0;        // at the step's start
+  double separation = 0.0;  // at the step's start
   double maxNormalImpulse = 0.0;
   double relativeVelocity = 0.0;  // normal velocity at the step's start (for restitution)
 };
@@ -101,8 +101,8 @@ struct SolverPoint {
 // (two tangent rows and a twist row about the normal), capped by mu times the patch's
 // total normal impulse.
 struct SolverManifold {
-  int a = 0, b = 0;  // solver body indices
-  int source = 0;    // index into the contact manifold list
+  int a = 0, b = 0;             // solver body indices
+  int source = 0;               // index into the contact manifold list
   Vec3 normal = Vec3::UnitY();  // from a to b
   double staticFriction = 0.0, dynamicFriction = 0.0, restitution = 0.0;
   double twistRadius = 0.0;  // mean distance of the points from the patch centre

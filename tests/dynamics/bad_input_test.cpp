@@ -54,7 +54,8 @@ TEST(BadInput, NonFiniteValuesNameTheField) {
   expectRejected(f, "addForceAtPosition.position",
                  [&] { f.w.addForceAtPosition(f.box, Vec3(1, 0, 0), Vec3(0, kInf, 0)); });
   expectRejected(f, "addTorque.torque", [&] { f.w.addTorque(f.box, Vec3(0, 0, kInf)); });
-  expectRejected(f, "setPose.position", [&] { f.w.setPose(f.box, Vec3(kNaN, 0, 0), Quat::Identity()); });
+  expectRejected(f, "setPose.position",
+                 [&] { f.w.setPose(f.box, Vec3(kNaN, 0, 0), Quat::Identity()); });
   expectRejected(f, "setPose.orientation",
                  [&] { f.w.setPose(f.box, Vec3::Zero(), Quat(0, 0, 0, 0)); });
   expectRejected(f, "setLinearVelocity.velocity",

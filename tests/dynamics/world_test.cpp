@@ -168,7 +168,8 @@ TEST(Incline, SlidesTheAnalyticDistance) {
   EXPECT_NEAR(d240 / expected, 1.0, 0.005) << d240 << " vs " << expected;
   RecordProperty("slide_error_60hz", std::to_string(d60 / expected - 1.0));
   RecordProperty("slide_error_240hz", std::to_string(d240 / expected - 1.0));
-  std::printf("slide error: %.3f %% at 60 Hz, %.3f %% at 240 Hz\n", 100 * (d60 / expected - 1), 100 * (d240 / expected - 1));
+  std::printf("slide error: %.3f %% at 60 Hz, %.3f %% at 240 Hz\n", 100 * (d60 / expected - 1),
+              100 * (d240 / expected - 1));
 }
 
 namespace {
@@ -274,7 +275,8 @@ TEST(Sleep, RestingPileFallsAsleepAndWakesOnForce) {
   World w;
   addGround(w);
   std::vector<BodyId> boxes;
-  for (int i = 0; i < 5; ++i) boxes.push_back(addBox(w, Vec3(0, 0.05 + 0.1 * i, 0), Vec3::Constant(0.05)));
+  for (int i = 0; i < 5; ++i)
+    boxes.push_back(addBox(w, Vec3(0, 0.05 + 0.1 * i, 0), Vec3::Constant(0.05)));
   for (int i = 0; i < 180; ++i) w.step(1.0 / 60.0);
   for (BodyId b : boxes) EXPECT_FALSE(w.isAwake(b));
   EXPECT_EQ(w.stats().awakeBodies, 0);

@@ -61,8 +61,9 @@ json press(const char* bone, const Vec3& p, const Vec3& n, const Vec3& axis, dou
           {"depth", depth}};
 }
 
-json pressKey(double t, json presses) {
-  return {{"time", t}, {"press", std::move(presses)}};
+json pressKey(double t, std::vector<json> presses) {
+  // A vector, not a json: a braced list of one json would copy it instead of making an array.
+  return {{"time", t}, {"press", json(std::move(presses))}};
 }
 
 // ---- the scenes ---------------------------------------------------------------------------------
@@ -75,7 +76,7 @@ json graspLift() {
            2.5);
   const double half = 0.03, mass = 0.1, depth = 1.5 * holdDepth(mass);
   const Vec3 c(0, half, 0), up(0, 0.1, 0);
-  s["bodies"] = {floorBody(), boxBody("cube", half, half, half, mass, c)};
+  s["bodies"] = json::array({floorBody(), boxBody("cube", half, half, half, mass, c)});
   s["hands"] = {{{"name", "right"},
                  {"keyframes",
                   {pinchKey(0.0, c, half, -0.002), pinchKey(0.25, c, half, depth),
@@ -102,7 +103,7 @@ json pushBox() {
   box["interaction"] = {{"gamma", 1000}};
   json floor = floorBody();
   floor["material"] = "floor";
-  s["bodies"] = {floor, box};
+  s["bodies"] = json::array({floor, box});
   const Vec3 n(-1, 0, 0), axis(0, 0, 1);
   auto at = [&](double t, double x, double depth) {
     return pressKey(t, {press("index_distal", Vec3(-0.05 + x, 0.05, 0), n, axis, depth)});
@@ -132,7 +133,7 @@ json handover() {
                 2.0);
   const double half = 0.03, mass = 0.1, depth = 2.0 * holdDepth(mass);
   const Vec3 c(0, 0.5, 0);
-  s["bodies"] = {boxBody("cube", half, half, half, mass, c)};
+  s["bodies"] = json::array({boxBody("cube", half, half, half, mass, c)});
   const Vec3 z(0, 0, 1), x(1, 0, 0);
   auto left = [&](double t, double d) {
     return pressKey(t, {press("thumb_distal", c - half * z, -z, x, d),
@@ -241,7 +242,7 @@ json spin() {
            2.5);
   const double half = 0.03, mass = 0.1, depth = 2.0 * holdDepth(mass);
   const Vec3 c(0, 0.5, 0), z(0, 0, 1);
-  s["bodies"] = {boxBody("cube", half, half, half, mass, c)};
+  s["bodies"] = json::array({boxBody("cube", half, half, half, mass, c)});
   json keys = json::array();
   auto at = [&](double t, double degrees, double d) {
     const Mat3 rot = Eigen::AngleAxisd(degrees * kPi / 180.0, z).toRotationMatrix();
@@ -281,7 +282,7 @@ json spinTwoHands() {
                 2.5);
   const double half = 0.03, mass = 0.1, depth = 2.0 * holdDepth(mass);
   const Vec3 c(0, 0.5, 0), z(0, 0, 1);
-  s["bodies"] = {boxBody("cube", half, half, half, mass, c)};
+  s["bodies"] = json::array({boxBody("cube", half, half, half, mass, c)});
   json right = json::array(), left = json::array();
   auto at = [&](double t, double degrees) {
     const Mat3 rot = Eigen::AngleAxisd(degrees * kPi / 180.0, z).toRotationMatrix();
@@ -327,7 +328,7 @@ json pushFigurine(bool slippery) {
   json fig = boxBody("figurine", 0.02, 0.06, 0.02, 0.2, Vec3(0, 0.06, 0));
   fig["material"] = {{"staticFriction", mu}, {"dynamicFriction", mu * 0.8}};
   fig["interaction"] = {{"gamma", 1000}};
-  s["bodies"] = {floor, fig};
+  s["bodies"] = json::array({floor, fig});
   const Vec3 n(-1, 0, 0), axis(0, 0, 1);
   const double h = 0.09;
   auto at = [&](double t, double x, double d) {
@@ -374,7 +375,7 @@ json carryTurn() {
            4.0);
   const double half = 0.03, mass = 0.1, depth = 3.0 * holdDepth(mass);
   const Vec3 c(0, 0.5, 0), y(0, 1, 0);
-  s["bodies"] = {boxBody("cube", half, half, half, mass, c)};
+  s["bodies"] = json::array({boxBody("cube", half, half, half, mass, c)});
   json keys = json::array();
   auto at = [&](double t, double u) {
     const Mat3 rot = Eigen::AngleAxisd(kCarryTurn * u, y).toRotationMatrix();
@@ -416,7 +417,8 @@ json flatLift() {
                 2.5);
   HandDef hd;
   const double palmY = 0.3, top = palmY + hd.palmHalfExtents.y();
-  s["bodies"] = {boxBody("box", 0.025, 0.02, 0.025, 0.1, Vec3(-0.012, top + 0.0205, -0.01))};
+  s["bodies"] =
+      json::array({boxBody("box", 0.025, 0.02, 0.025, 0.1, Vec3(-0.012, top + 0.0205, -0.01))});
   json keys = json::array();
   auto at = [&](double t, double lift) {
     keys.push_back({{"time", t},
@@ -459,7 +461,7 @@ json balanceTwoHands() {
                 "two hands).",
                 3.0);
   const double hx = 0.2, hy = 0.01, hz = 0.04, y0 = 0.5;
-  s["bodies"] = {boxBody("plank", hx, hy, hz, 0.3, Vec3(0, y0, 0))};
+  s["bodies"] = json::array({boxBody("plank", hx, hy, hz, 0.3, Vec3(0, y0, 0))});
   json right = json::array(), left = json::array();
   auto at = [&](double t, double lift, double degrees) {
     const Mat3 rot = Eigen::AngleAxisd(degrees * kPi / 180.0, Vec3(0, 0, 1)).toRotationMatrix();
