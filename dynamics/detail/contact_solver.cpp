@@ -4,6 +4,7 @@
 // Then one restitution pass, a position projection, and the impulses are stored for the
 // next step's warm start. docs/dynamics.md explains the choices and the measurements.
 #include <algorithm>
+#include <cmath>
 
 #include "dynamics/detail/world_impl.hpp"
 
@@ -35,7 +36,7 @@ struct SolveContext {
   double invH = 0.0, slop = 0.0, pushout = 0.0;
   int manifoldSweeps = 4;
   double breakVelocity = 0.0;
-  Softness soft, staticSoft;
+  Softness soft, staticSoft, anchorSoft;
 };
 
 // Which bodies a solve may move. Shock propagation freezes the body nearer the ground.
@@ -87,15 +88,27 @@ SolverRow makeRow(const SolverBody& a, const SolverBody& b, const Vec3& lin, con
 // mu times the patch's total normal impulse, the twist by the same times the patch radius.
 // Static friction (mu_s) holds until the cap is reached in a relax pass (when the normal
 // impulses were solved this substep); from then on the patch slides with mu_d.
-void solveFriction(SolverManifold& m, SolverBody& A, SolverBody& B, Moves moves, bool mayBreak,
-                   double breakVelocity) {
+void solveFriction(SolverManifold& m, SolverBody& A, SolverBody& B, const SolveContext& ctx,
+                   bool useBias, Moves moves, bool mayBreak) {
   double normal = 0.0;
   for (int k = 0; k < m.count; ++k) normal += m.p[k].normal.impulse;
   const double mu = m.sliding ? m.dynamicFriction : m.staticFriction;
   SolverRow &t1 = m.friction[0], &t2 = m.friction[1], &twist = m.friction[2];
   const double old1 = t1.impulse, old2 = t2.impulse;
-  double n1 = old1 - rowMass(A, B, t1, moves) * rowVelocity(A, B, t1);
-  double n2 = old2 - rowMass(A, B, t2, moves) * rowVelocity(A, B, t2);
+  // A sticking patch is pulled back to its anchor softly in the biased pass (the drift is
+  // linearised in the bodies' motion since the step began, as separations are).
+  double bias1 = 0.0, bias2 = 0.0;
+  if (useBias && !m.sliding) {
+    const Vec3 dp = B.dp - A.dp;
+    const double e1 =
+        m.anchorError[0] + t1.lin.dot(dp) + t1.angB.dot(B.dtheta) - t1.angA.dot(A.dtheta);
+    const double e2 =
+        m.anchorError[1] + t2.lin.dot(dp) + t2.angB.dot(B.dtheta) - t2.angA.dot(A.dtheta);
+    bias1 = ctx.anchorSoft.biasRate * e1, bias2 = ctx.anchorSoft.biasRate * e2;
+  }
+  const double scale = useBias && !m.sliding ? ctx.anchorSoft.massScale : 1.0;
+  double n1 = old1 - scale * rowMass(A, B, t1, moves) * (rowVelocity(A, B, t1) + bias1);
+  double n2 = old2 - scale * rowMass(A, B, t2, moves) * (rowVelocity(A, B, t2) + bias2);
   const double limit = mu * normal;
   const double len2 = n1 * n1 + n2 * n2;
   const bool capped = len2 > limit * limit;
@@ -110,7 +123,7 @@ void solveFriction(SolverManifold& m, SolverBody& A, SolverBody& B, Moves moves,
   // impulse. Capped while arresting a small residual motion is still sticking.
   if (capped && mayBreak && !m.sliding) {
     const double v1 = rowVelocity(A, B, t1), v2 = rowVelocity(A, B, t2);
-    m.sliding = v1 * v1 + v2 * v2 > breakVelocity * breakVelocity;
+    m.sliding = v1 * v1 + v2 * v2 > ctx.breakVelocity * ctx.breakVelocity;
   }
   if (m.count > 1) {
     const double oldT = twist.impulse, maxT = mu * normal * m.twistRadius;
@@ -183,7 +196,7 @@ inline void solveManifold(SolverManifold& m, std::vector<SolverBody>& bodies,
   SolverBody& B = bodies[m.b];
   const bool mayBreak = !useBias && m.warm;
   if (!m.warm) solveNormal(m, A, B, ctx, useBias, moves);
-  solveFriction(m, A, B, moves, mayBreak, ctx.breakVelocity);
+  solveFriction(m, A, B, ctx, useBias, moves, mayBreak);
   if (m.warm) solveNormal(m, A, B, ctx, useBias, moves);
 }
 
@@ -223,6 +236,7 @@ void World::Impl::solve(double dt) {
   const double hertz = std::min(def.contactHertz, 0.25 / h);
   ctx.soft = makeSoft(hertz, def.contactDampingRatio, h);
   ctx.staticSoft = makeSoft(2.0 * hertz, def.contactDampingRatio, h);
+  ctx.anchorSoft = makeSoft(2.0 * hertz, def.contactDampingRatio, h);
 
   for (int sub = 0; sub < substeps; ++sub) {
     integrateVelocities(h);
@@ -268,7 +282,7 @@ void World::Impl::prepareContacts() {
   solverManifolds.clear();
   int points = 0;
   for (size_t ci = 0; ci < contacts.size(); ++ci) {
-    const ContactManifold& c = contacts[ci];
+    ContactManifold& c = contacts[ci];
     const Body &A = bodies[c.bodyA], &B = bodies[c.bodyB];
     if (A.solverIndex == 0 && B.solverIndex == 0) continue;
     if (!A.isDynamic() && !B.isDynamic()) continue;
@@ -304,6 +318,18 @@ void World::Impl::prepareContacts() {
     m.friction[1] = makeRow(sa, sb, t2, rA.cross(t2), rB.cross(t2));
     m.friction[2] = makeRow(sa, sb, Vec3::Zero(), n, n);
     for (int r = 0; r < 3; ++r) m.friction[r].impulse = c.friction[r];
+    // The anchor: kept while the patch sticks and stays within the slop of it, else reset to
+    // the patch centre (a new or sliding patch starts from where it is).
+    if (c.anchored && !c.sliding) {
+      const Vec3 drift = B.pose.apply(c.anchorB) - A.pose.apply(c.anchorA);
+      m.anchorError[0] = drift.dot(t1), m.anchorError[1] = drift.dot(t2);
+      if (std::hypot(m.anchorError[0], m.anchorError[1]) > def.linearSlop) c.anchored = false;
+    }
+    if (!c.anchored || c.sliding) {
+      c.anchorA = A.pose.inverse().apply(centre), c.anchorB = B.pose.inverse().apply(centre);
+      c.anchored = true;
+      m.anchorError[0] = m.anchorError[1] = 0.0;
+    }
     // Static friction while the patch rests, kinetic once it moves along the surface.
     const Vec3 dv = (B.v + B.w.cross(rB)) - (A.v + A.w.cross(rA));
     m.sliding = (dv - dv.dot(n) * n).norm() > def.stickVelocity;
@@ -406,6 +432,7 @@ void World::Impl::storeImpulses() {
     for (int k = 0; k < m.count; ++k) c.state[k].normalImpulse = m.p[k].normal.impulse;
     for (int r = 0; r < 3; ++r) c.friction[r] = m.friction[r].impulse;
     c.sliding = m.sliding;
+    if (m.sliding) c.anchored = false;
   }
 }
 

@@ -122,6 +122,7 @@ bool World::Impl::collide(double dt) {
       if (found) {
         for (int r = 0; r < 3; ++r) c.friction[r] = it->friction[r];
         c.sliding = it->sliding;
+        c.anchored = it->anchored, c.anchorA = it->anchorA, c.anchorB = it->anchorB;
       }
       // Speculative contacts slow bodies before they touch: remember how fast they closed.
       const Vec3& x = m.points[0].position;

@@ -57,6 +57,10 @@ struct ContactManifold {
   double friction[3] = {0.0, 0.0, 0.0};  // patch friction impulses: tangent 1, 2, twist
   bool sliding = false;
   bool touching = false;
+  // Static friction holds a sticking patch at a point fixed on both bodies (body frames), so
+  // a patch that creeps a little every step is pulled back instead of drifting away.
+  bool anchored = false;
+  Vec3 anchorA = Vec3::Zero(), anchorB = Vec3::Zero();
   double approachSpeed = 0.0;  // fastest normal closing speed seen before it touched
 
   uint64_t pairKey() const { return (uint64_t(bodyA) << 32) | bodyB; }
@@ -110,8 +114,9 @@ struct SolverManifold {
   bool warm = false;  // started with impulses from the previous step
   int count = 0;
   SolverPoint p[4];
-  SolverRow friction[3];  // tangent 1, tangent 2, twist
-  double K[4][4] = {};    // normal coupling between the points: K_ij = J_i M^-1 J_j^T
+  SolverRow friction[3];               // tangent 1, tangent 2, twist
+  double anchorError[2] = {0.0, 0.0};  // tangential drift from the anchor at the step's start
+  double K[4][4] = {};                 // normal coupling between the points: K_ij = J_i M^-1 J_j^T
 };
 
 struct SensorPair {

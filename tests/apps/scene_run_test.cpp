@@ -23,12 +23,6 @@ fs::path freshDir(const std::string& name) {
 class BuiltinSceneTest : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(BuiltinSceneTest, PassesItsCheck) {
-  if (GetParam() == "jenga") {
-    // Blocked by the World, not the hand (see tests/interaction/manipulation_test.cpp): left
-    // alone, the 18-block tower creeps and topples at 60 Hz, so "the tower stands" fails. The
-    // push itself works. Enable once free-standing stacks hold still.
-    GTEST_SKIP() << "jenga: the World's free-standing tower creeps (known, dynamics)";
-  }
   const Scene s = parseScene(*builtinScene(GetParam()));
   const RunResult r = run(s);
   ASSERT_FALSE(r.checks.empty());
