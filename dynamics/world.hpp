@@ -64,6 +64,8 @@ struct WorldDef {
   int substeps = 4;                 // solver substeps per step (soft step solver)
   int relaxIterations = 1;          // velocity passes without position bias per substep (the last
                                     // one propagates support from the ground up: shock propagation)
+  int maxRelaxIterations = 24;      // tall islands get extra relax passes, up to this many
+                                    // (per island, from its height in contact levels)
   int positionIterations = 2;       // position projection passes after the velocities
   double positionCorrection = 0.2;  // fraction of the overlap the projection removes per pass
   double positionSlop = 0.0005;     // m, overlap the projection leaves alone

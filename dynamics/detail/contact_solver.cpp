@@ -229,6 +229,8 @@ void World::Impl::solve(double dt) {
 
   prepareContacts();
   computeLevels();
+  const int maxRelaxPasses =
+      relaxPasses.empty() ? 0 : *std::max_element(relaxPasses.begin(), relaxPasses.end());
 
   SolveContext ctx;
   ctx.invH = 1.0 / h, ctx.slop = def.linearSlop, ctx.pushout = def.maxPushoutVelocity;
@@ -247,19 +249,19 @@ void World::Impl::solve(double dt) {
     }
     for (SolverManifold& m : solverManifolds) solveManifold(m, solverBodies, ctx, true);
     integratePositions(h);
-    for (int r = 0; r < def.relaxIterations; ++r) {
-      if (r + 1 == def.relaxIterations) {
-        // Shock propagation (Guendelman et al. 2003): the last relax pass runs from the
-        // ground up and lets each contact move only the body farther from the ground, so
-        // a stack's support reaches its top within one pass instead of diffusing slowly.
-        for (int i : shockOrder) {
-          SolverManifold& m = solverManifolds[i];
-          const int la = levels[m.a], lb = levels[m.b];
-          const Moves moves = la < lb ? Moves::OnlyB : lb < la ? Moves::OnlyA : Moves::Both;
-          solveManifold(m, solverBodies, ctx, false, moves);
-        }
-      } else {
-        for (auto& m : solverManifolds) solveManifold(m, solverBodies, ctx, false);
+    // Relax passes; each island runs its own number of them (computeLevels), and its last
+    // one is a shock propagation pass (Guendelman et al. 2003): from the ground up, each
+    // contact moves only the body farther from the ground, so a stack's support reaches its
+    // top within one pass instead of diffusing slowly.
+    for (int r = 0; r < maxRelaxPasses; ++r) {
+      for (size_t i = 0; i < solverManifolds.size(); ++i)
+        if (relaxPasses[i] > r + 1) solveManifold(solverManifolds[i], solverBodies, ctx, false);
+      for (int i : shockOrder) {
+        if (relaxPasses[i] != r + 1) continue;
+        SolverManifold& m = solverManifolds[i];
+        const int la = levels[m.a], lb = levels[m.b];
+        const Moves moves = la < lb ? Moves::OnlyB : lb < la ? Moves::OnlyA : Moves::Both;
+        solveManifold(m, solverBodies, ctx, false, moves);
       }
     }
   }
@@ -471,6 +473,35 @@ void World::Impl::computeLevels() {
   };
   std::stable_sort(shockOrder.begin(), shockOrder.end(),
                    [&](int x, int y) { return lowLevel(x) < lowLevel(y); });
+
+  // Islands (union-find over the manifolds between moving bodies) and their heights. Support
+  // must travel from the ground to the top of an island, and a Gauss-Seidel pass carries it
+  // only so far: measured, stacks of up to 9 levels stand with one relax pass, 20 need about
+  // 6 and 50 about 18. So an island deeper than 9 levels gets (2 (depth - 9) + 4) / 5 passes
+  // more than relaxIterations, up to maxRelaxIterations in all; low piles pay nothing extra.
+  islandOf.resize(n);
+  for (int i = 0; i < n; ++i) islandOf[i] = i;
+  auto root = [&](int i) {
+    while (islandOf[i] != i) i = islandOf[i] = islandOf[islandOf[i]];
+    return i;
+  };
+  for (const SolverManifold& m : solverManifolds) {
+    if (solverBodies[m.a].invMass == 0.0 || solverBodies[m.b].invMass == 0.0) continue;
+    const int ra = root(m.a), rb = root(m.b);
+    if (ra != rb) islandOf[std::max(ra, rb)] = std::min(ra, rb);
+  }
+  islandDepth.assign(n, 0);
+  for (int i = 0; i < n; ++i)
+    if (levels[i] != kFree) islandDepth[root(i)] = std::max(islandDepth[root(i)], levels[i]);
+  relaxPasses.resize(solverManifolds.size());
+  for (size_t i = 0; i < solverManifolds.size(); ++i) {
+    const SolverManifold& m = solverManifolds[i];
+    const int body = solverBodies[m.a].invMass == 0.0 ? m.b : m.a;
+    const int depth = islandDepth[root(body)];
+    const int extra = depth > 9 ? (2 * (depth - 9) + 4) / 5 : 0;
+    const int room = std::max(0, def.maxRelaxIterations - def.relaxIterations);
+    relaxPasses[i] = def.relaxIterations + std::min(extra, room);
+  }
 }
 
 }  // namespace grip

@@ -14,6 +14,8 @@ void validateWorldDef(const WorldDef& d) {
   if (d.substeps < 1 || d.substeps > 64) throw Error("WorldDef.substeps", "must be in 1..64");
   if (d.relaxIterations < 0 || d.relaxIterations > 64)
     throw Error("WorldDef.relaxIterations", "must be in 0..64");
+  if (d.maxRelaxIterations < 0 || d.maxRelaxIterations > 256)
+    throw Error("WorldDef.maxRelaxIterations", "must be in 0..256");
   if (d.positionIterations < 0 || d.positionIterations > 64)
     throw Error("WorldDef.positionIterations", "must be in 0..64");
   requireNonNegative(d.positionCorrection, "WorldDef.positionCorrection");

@@ -155,6 +155,7 @@ struct World::Impl {
   std::vector<uint32_t> awakeBodies;  // slot indices of awake dynamic/kinematic bodies
   std::vector<detail::SolverManifold> solverManifolds;
   std::vector<int> levels, adjacencyStart, adjacency, shockOrder, fill, queue;  // shock order
+  std::vector<int> islandOf, islandDepth, relaxPasses;  // relax passes per manifold
 
   std::vector<ContactEvent> beginEvents, endEvents;
   std::vector<SensorEvent> sensorBegin, sensorEnd;

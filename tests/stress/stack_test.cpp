@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 
 #include "stress_util.hpp"
 
@@ -45,11 +46,9 @@ StackRun runStack(int count, const WorldDef& def, double hz, double seconds) {
 
 }  // namespace
 
-TEST(Stack, TwentyBoxesStandWithFourRelaxIterations) {
-  WorldDef def;
-  def.enableSleep = false;
-  def.relaxIterations = 4;  // docs/dynamics.md: tall stacks need more relax passes
-  const StackRun r = runStack(20, def, 60.0, 20.0);
+void expectStands(const StackRun& r) {
+  std::printf("sink %.2f mm, drift after 1 s %.3f mm, lateral %.3f mm\n", r.sink * 1e3,
+              r.drift * 1e3, r.lateral * 1e3);
   ASSERT_TRUE(r.finite);
   EXPECT_LT(r.sink, 5e-3) << "top sank " << r.sink * 1e3 << " mm";
   EXPECT_LT(r.drift, 1e-3) << "top drifted " << r.drift * 1e3 << " mm after settling";
@@ -57,18 +56,30 @@ TEST(Stack, TwentyBoxesStandWithFourRelaxIterations) {
   EXPECT_LT(r.energyGain, 1e-6) << "energy grew by " << r.energyGain << " J";
 }
 
-// Settings that make 50 boxes stand: see docs/dynamics.md ("Tall stacks").
+// The bar: 20 cubes of 0.1 m and 1 kg at 60 Hz, top within 1 mm over 10 s, at the
+// World's defaults (the island's height buys it extra relax passes).
+TEST(Stack, TwentyBoxesStandWithTheDefaults) {
+  WorldDef def;
+  def.enableSleep = false;
+  expectStands(runStack(20, def, 60.0, 20.0));
+}
+
+// 50 need more substeps and passes than the defaults give: see docs/dynamics.md.
 TEST(Stack, FiftyBoxesStand) {
   WorldDef def;
   def.enableSleep = false;
   def.substeps = 8;
   def.relaxIterations = 16;
-  const StackRun r = runStack(50, def, 60.0, 8.0);
-  ASSERT_TRUE(r.finite);
-  EXPECT_LT(r.sink, 5e-3) << "top sank " << r.sink * 1e3 << " mm";
-  EXPECT_LT(r.drift, 1e-3) << "top drifted " << r.drift * 1e3 << " mm after settling";
-  EXPECT_LT(r.lateral, 1e-3) << "a box moved " << r.lateral * 1e3 << " mm sideways";
-  EXPECT_LT(r.energyGain, 1e-6) << "energy grew by " << r.energyGain << " J";
+  expectStands(runStack(50, def, 60.0, 8.0));
+}
+
+// The extra passes are what holds them: without them a 20-stack falls (docs/dynamics.md).
+TEST(Stack, TwentyBoxesFallWithoutTheirExtraRelaxPasses) {
+  WorldDef def;
+  def.enableSleep = false;
+  def.maxRelaxIterations = def.relaxIterations;
+  const StackRun r = runStack(20, def, 60.0, 10.0);
+  EXPECT_GT(r.lateral, 0.01) << "the stack stood without its extra relax passes";
 }
 
 // With the default settings a 50-box stack may sag, but it never explodes or gains energy.
