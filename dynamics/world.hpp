@@ -81,6 +81,7 @@ struct WorldDef {
   double sleepAngularVelocity = 0.05;  // rad/s
   double timeToSleep = 0.5;            // s below the thresholds before an island sleeps
   double maxLinearSpeed = 400.0;       // m/s, a guard against blow-ups
+  double maxAngularSpeed = 200.0;      // rad/s, the same for spin (PhysX: 100, Jolt: 47)
 };
 
 struct ContactEvent {

@@ -43,17 +43,29 @@ bool pointContact(const Vec3& cA, double rA, const Vec3& cB, double rB, double m
   return true;
 }
 
+// Squared length (m^2) below which a segment is a point: 1e-12 m, far below any contact
+// tolerance, and well above where 0/0 would make NaN.
+constexpr double kPointSegment = 1e-24;
+
 Vec3 closestOnSegment(const Vec3& a, const Vec3& b, const Vec3& x) {
   const Vec3 ab = b - a;
-  const double t = std::clamp((x - a).dot(ab) / ab.squaredNorm(), 0.0, 1.0);
+  const double len2 = ab.squaredNorm();
+  if (len2 <= kPointSegment) return a;  // a capsule of (almost) no length is a sphere
+  const double t = std::clamp((x - a).dot(ab) / len2, 0.0, 1.0);
   return a + t * ab;
 }
 
-// Closest points of segments p1q1 and p2q2 (Ericson 5.1.9; both have non-zero length).
+// Closest points of segments p1q1 and p2q2 (Ericson 5.1.9, with his degenerate cases).
 void closestSegments(const Vec3& p1, const Vec3& q1, const Vec3& p2, const Vec3& q2, Vec3& c1,
                      Vec3& c2) {
   const Vec3 d1 = q1 - p1, d2 = q2 - p2, r = p1 - p2;
   const double a = d1.squaredNorm(), e = d2.squaredNorm(), f = d2.dot(r);
+  if (a <= kPointSegment || e <= kPointSegment) {  // one or both are points
+    c1 = a <= kPointSegment ? p1 : closestOnSegment(p1, q1, p2);
+    c2 = closestOnSegment(p2, q2, c1);
+    if (a > kPointSegment) c1 = closestOnSegment(p1, q1, c2);
+    return;
+  }
   const double c = d1.dot(r), b = d1.dot(d2);
   const double denom = a * e - b * b;
   double s = denom > 1e-14 * a * e ? std::clamp((b * f - c * e) / denom, 0.0, 1.0) : 0.0;

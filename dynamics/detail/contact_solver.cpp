@@ -347,18 +347,45 @@ void World::Impl::prepareContacts() {
   stats.awakeBodies = static_cast<int>(awakeBodies.size());
 }
 
+namespace {
+
+// A vector no longer than `max`, in its own direction; infinite parts count as the largest
+// (a sum of huge but finite forces can overflow, and inf * 0 must not become NaN).
+Vec3 limitLength(const Vec3& v, double max) {
+  if (!v.allFinite()) {
+    Vec3 d = Vec3::Zero();
+    for (int i = 0; i < 3; ++i) d[i] = std::isinf(v[i]) ? std::copysign(1.0, v[i]) : 0.0;
+    return d.isZero() ? Vec3::Zero() : Vec3(d.normalized() * max);
+  }
+  const double length = v.norm();
+  return length > max ? Vec3(v * (max / length)) : v;
+}
+
+// Forces so large that F/m or I^-1 T would overflow are scaled down first: the speed limit
+// caps what they do anyway.
+Vec3 tameLoad(const Vec3& x) {
+  constexpr double kLargest = 1e100;
+  if (!x.allFinite()) return limitLength(x, kLargest);
+  const double m = x.lpNorm<Eigen::Infinity>();
+  return m > kLargest ? Vec3(x * (kLargest / m)) : x;
+}
+
+}  // namespace
+
 void World::Impl::integrateVelocities(double h) {
   for (size_t k = 0; k < awakeBodies.size(); ++k) {
     const Body& b = bodies[awakeBodies[k]];
     SolverBody& s = solverBodies[k + 1];
     if (!b.isDynamic()) continue;
-    s.v += h * (b.invMass * b.force + b.gravityScale * def.gravity + b.linearAccel);
+    s.v += h *
+           (b.invMass * tameLoad(b.force) + b.gravityScale * def.gravity + tameLoad(b.linearAccel));
     const Mat3 R = (s.dq * b.pose.q).toRotationMatrix();
-    s.w += h * (R * (b.invInertiaLocal * (R.transpose() * b.torque)) + b.angularAccel);
+    s.w += h * (R * (b.invInertiaLocal * (R.transpose() * tameLoad(b.torque))) +
+                tameLoad(b.angularAccel));
     s.v *= 1.0 / (1.0 + h * b.linearDamping);
     s.w *= 1.0 / (1.0 + h * b.angularDamping);
-    const double speed = s.v.norm();
-    if (speed > def.maxLinearSpeed) s.v *= def.maxLinearSpeed / speed;
+    s.v = limitLength(s.v, def.maxLinearSpeed);
+    s.w = limitLength(s.w, def.maxAngularSpeed);
   }
 }
 

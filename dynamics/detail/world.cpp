@@ -32,6 +32,7 @@ void validateWorldDef(const WorldDef& d) {
   requireNonNegative(d.sleepAngularVelocity, "WorldDef.sleepAngularVelocity");
   requireNonNegative(d.timeToSleep, "WorldDef.timeToSleep");
   requirePositive(d.maxLinearSpeed, "WorldDef.maxLinearSpeed");
+  requirePositive(d.maxAngularSpeed, "WorldDef.maxAngularSpeed");
 }
 
 void validateMaterial(const MaterialDef& m, const char* staticF, const char* dynamicF,
@@ -220,7 +221,7 @@ void World::addTorque(BodyId id, const Vec3& t, ForceMode mode) {
       b.angularAccel += t;
       break;
     case ForceMode::Impulse:
-      b.w += b.invInertiaWorld() * t;
+      b.w += b.invInertiaWorld() * t.cwiseMax(-1e100).cwiseMin(1e100);  // no inf - inf
       break;
     case ForceMode::VelocityChange:
       b.w += t;

@@ -36,7 +36,7 @@ struct Scene {
 };
 
 // Values that break naive code: huge (up to 1e30), tiny, subnormal, signed zero. Larger
-// finite values are a known engine limit (see the DISABLED_ tests below).
+// finite values have their own tests below.
 double nastyValue(std::mt19937_64& rng) {
   static const double values[] = {1e30, -1e30, 1e15,  -1e15, 1e-300, 4.9e-324, -0.0, 0.0,
                                   1.0,  -1.0,  1e-12, 3.5,   -250.0, 1e8,      -1e8, 0.5};
@@ -154,11 +154,9 @@ TEST(Adversarial, HugeVelocitiesAreClampedNotPropagated) {
   }
 }
 
-// ENGINE LIMIT (found here): angular velocity has no clamp, and a body spinning at 1e30 rad/s
-// hands huge linear speeds (5e4 m/s seen) to what it touches, past WorldDef.maxLinearSpeed.
-// Nothing turns NaN (the test above), but the speed guard is bypassed. A maxAngularSpeed (as
-// Box2D's b2_maxRotation per substep) would close it. Enable when fixed.
-TEST(Adversarial, DISABLED_HugeSpinDoesNotBypassTheSpeedClamp) {
+// Found here: without a spin limit, a body spinning at 1e30 rad/s handed 5e4 m/s to what it
+// touched, past WorldDef.maxLinearSpeed. WorldDef.maxAngularSpeed now caps the spin.
+TEST(Adversarial, HugeSpinDoesNotBypassTheSpeedClamp) {
   Scene s;
   for (BodyId id : s.dynamic) s.w.setAngularVelocity(id, Vec3(1e30, 2e30, -1e30));
   for (int i = 0; i < 60; ++i) {
@@ -177,11 +175,10 @@ TEST(Adversarial, HugeAngularVelocitiesStayFinite) {
   }
 }
 
-// ENGINE BUG (found here): a finite force or torque so large that F/m, or the accumulated
-// sum, overflows to inf makes the body NaN: integrateVelocities clamps the speed with
-// v *= maxLinearSpeed / |v|, which is inf * 0 = NaN once |v| is inf, and angular velocity has
-// no clamp at all (1e300 N m on a small capsule gives inf, then NaN). Enable when fixed.
-TEST(Adversarial, DISABLED_OverflowingForceOnALightBodyStaysFinite) {
+// Found here: a finite force or torque so large that F/m, or the accumulated sum, overflowed
+// to inf made the body NaN (the speed clamp computed inf * 0). Loads are now scaled down
+// before they can overflow, and the clamp keeps the direction of an infinite velocity.
+TEST(Adversarial, OverflowingForceOnALightBodyStaysFinite) {
   // kMax newtons on a 10 g body overflow F/m to inf unless the engine guards against it.
   Scene s;
   const BodyId light = s.dynamic.back();
@@ -195,7 +192,7 @@ TEST(Adversarial, DISABLED_OverflowingForceOnALightBodyStaysFinite) {
   EXPECT_TRUE(allFinite(s.w, &bad)) << bad;
 }
 
-TEST(Adversarial, DISABLED_OverflowingTorqueStaysFinite) {
+TEST(Adversarial, OverflowingTorqueStaysFinite) {
   Scene s;
   const BodyId capsule = s.dynamic[4];
   s.w.addTorque(capsule, Vec3(1, 0.5, -1e300));

@@ -74,12 +74,9 @@ TEST(Shapes, NearlyZeroLengthCapsulesBehaveLikeSpheres) {
   shortCapsules(1e-9);
 }
 
-// ENGINE BUG (found here): Shape::capsule accepts any positive halfHeight, but the capsule
-// narrowphase (closestOnSegment / closestSegments in collision/detail/narrowphase.cpp) divides
-// by the squared segment length, which underflows to 0 for halfHeight 1e-300: 0/0 = NaN
-// reaches the bodies within a few steps. Fix: treat a segment shorter than ~1e-12 m as a point
-// (or reject such capsules in Shape::capsule). Enable when fixed.
-TEST(Shapes, DISABLED_SubnormalLengthCapsulesBehaveLikeSpheres) {
+// Found here: the capsule narrowphase divided by the squared segment length, which
+// underflows to 0 for halfHeight 1e-300 (0/0 = NaN). Segments under 1e-12 m are now points.
+TEST(Shapes, SubnormalLengthCapsulesBehaveLikeSpheres) {
   shortCapsules(1e-300);
 }
 
