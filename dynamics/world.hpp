@@ -113,6 +113,7 @@ struct StepStats {
   int contactPoints = 0;
   int islands = 0;
   int sleepingIslands = 0;
+  int directIslands = 0;  // islands of very unequal masses whose normals were solved directly
 };
 
 class World {

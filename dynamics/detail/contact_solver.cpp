@@ -4,7 +4,11 @@
 // Then one restitution pass, a position projection, and the impulses are stored for the
 // next step's warm start. docs/dynamics.md explains the choices and the measurements.
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <limits>
+
+#include <Eigen/Cholesky>
 
 #include "dynamics/detail/world_impl.hpp"
 
@@ -18,6 +22,9 @@ using detail::SolverPoint;
 using detail::SolverRow;
 
 namespace {
+
+constexpr int kDirectRows =
+    64;  // largest island (in normal rows) whose normals are solved directly
 
 // Soft constraint coefficients: a spring of `hertz` with damping ratio `zeta`, discretised
 // implicitly for substep h (Box2D v3's b2MakeSoft).
@@ -98,7 +105,7 @@ void solveFriction(SolverManifold& m, SolverBody& A, SolverBody& B, const SolveC
   // A sticking patch is pulled back to its anchor softly in the biased pass (the drift is
   // linearised in the bodies' motion since the step began, as separations are).
   double bias1 = 0.0, bias2 = 0.0;
-  if (useBias && !m.sliding) {
+  if (useBias && !m.sliding && m.anchored) {
     const Vec3 dp = B.dp - A.dp;
     const double e1 =
         m.anchorError[0] + t1.lin.dot(dp) + t1.angB.dot(B.dtheta) - t1.angA.dot(A.dtheta);
@@ -106,7 +113,7 @@ void solveFriction(SolverManifold& m, SolverBody& A, SolverBody& B, const SolveC
         m.anchorError[1] + t2.lin.dot(dp) + t2.angB.dot(B.dtheta) - t2.angA.dot(A.dtheta);
     bias1 = ctx.anchorSoft.biasRate * e1, bias2 = ctx.anchorSoft.biasRate * e2;
   }
-  const double scale = useBias && !m.sliding ? ctx.anchorSoft.massScale : 1.0;
+  const double scale = useBias && !m.sliding && m.anchored ? ctx.anchorSoft.massScale : 1.0;
   double n1 = old1 - scale * rowMass(A, B, t1, moves) * (rowVelocity(A, B, t1) + bias1);
   double n2 = old2 - scale * rowMass(A, B, t2, moves) * (rowVelocity(A, B, t2) + bias2);
   const double limit = mu * normal;
@@ -200,6 +207,109 @@ inline void solveManifold(SolverManifold& m, std::vector<SolverBody>& bodies,
   if (m.warm) solveNormal(m, A, B, ctx, useBias, moves);
 }
 
+// Coupling of two normal rows through the bodies they share: J_i M^-1 J_j^T.
+double coupling(const SolverManifold& mi, const SolverRow& ri, const SolverManifold& mj,
+                const SolverRow& rj, const std::vector<SolverBody>& bodies) {
+  double k = 0.0;
+  for (int x : {mi.a, mi.b}) {
+    if (x != mj.a && x != mj.b) continue;
+    const bool iB = x == mi.b, jB = x == mj.b;
+    const double sign = iB == jB ? 1.0 : -1.0;
+    k += sign * (bodies[x].invMass * ri.lin.dot(rj.lin) +
+                 (iB ? ri.angB : ri.angA).dot(jB ? rj.dwB : rj.dwA));
+  }
+  return k;
+}
+
+// The normal impulses of one small island solved together, for islands of very unequal
+// masses (see computeLevels): all its rows at once with their coupling K, by an active set
+// (a row whose impulse would pull is let go, a let-go row that would close is taken back, and
+// the rest solved again). Friction stays with Gauss-Seidel. If the active set does not
+// settle, the Gauss-Seidel result stands.
+void solveIslandNormals(std::vector<SolverManifold>& manifolds, std::vector<SolverBody>& bodies,
+                        const int* list, const SolveContext& ctx, bool useBias) {
+  using MatN = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kDirectRows, kDirectRows>;
+  using VecN = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kDirectRows, 1>;
+  struct Row {
+    SolverManifold* m;
+    SolverPoint* p;
+  };
+  std::array<Row, kDirectRows> rows;
+  int n = 0;
+  for (const int* i = list; *i >= 0; ++i)
+    for (int k = 0; k < manifolds[*i].count; ++k) rows[n++] = {&manifolds[*i], &manifolds[*i].p[k]};
+  MatN K(n, n);
+  VecN rhs(n), lambda(n), bias(n);
+  for (int i = 0; i < n; ++i) {
+    const SolverManifold& m = *rows[i].m;
+    const SolverRow& r = rows[i].p->normal;
+    const SolverBody &A = bodies[m.a], &B = bodies[m.b];
+    for (int j = 0; j < n; ++j) K(i, j) = coupling(m, r, *rows[j].m, rows[j].p->normal, bodies);
+    const Softness& soft = (m.a == 0 || m.b == 0) ? ctx.staticSoft : ctx.soft;
+    const double sep = rows[i].p->separation + r.lin.dot(B.dp - A.dp) + r.angB.dot(B.dtheta) -
+                       r.angA.dot(A.dtheta);
+    double b = 0.0, massScale = 1.0, impulseScale = 0.0;
+    if (sep > 0.0) {
+      b = sep * ctx.invH;
+    } else if (useBias && sep < -ctx.slop) {
+      b = std::max(soft.biasRate * (sep + ctx.slop), -ctx.pushout);
+      massScale = soft.massScale, impulseScale = soft.impulseScale;
+    }
+    lambda[i] = r.impulse;
+    bias[i] = b;
+    // Soft rows as in solveNormal: dl k / s + (i k / s) l = -(v + b).
+    const double kii = K(i, i);
+    rhs[i] = -(rowVelocity(A, B, r) + b) - impulseScale * kii / massScale * lambda[i];
+    K(i, i) = kii / massScale;
+  }
+  std::array<bool, kDirectRows> active;
+  active.fill(true);
+  VecN delta = VecN::Zero(n);
+  for (int round = 0; round < 8; ++round) {
+    std::array<int, kDirectRows> idx;
+    int na = 0;
+    for (int i = 0; i < n; ++i)
+      if (active[i]) idx[na++] = i;
+    for (int i = 0; i < n; ++i) delta[i] = active[i] ? 0.0 : -lambda[i];  // let go: no impulse
+    if (na > 0) {
+      MatN Ka(na, na);
+      VecN ra(na);
+      double trace = 0.0;
+      for (int x = 0; x < na; ++x) {
+        ra[x] = rhs[idx[x]];
+        for (int j = 0; j < n; ++j)
+          if (!active[j]) ra[x] -= K(idx[x], j) * delta[j];
+        for (int y = 0; y < na; ++y) Ka(x, y) = K(idx[x], idx[y]);
+        trace += Ka(x, x);
+      }
+      // A face's four points constrain only three motions: the tiny regularisation picks the
+      // even split among the equivalent impulse sets.
+      Ka.diagonal().array() += 1e-9 * trace / na;
+      const VecN da = Ka.ldlt().solve(ra);
+      if (!da.allFinite()) return;
+      for (int x = 0; x < na; ++x) delta[idx[x]] = da[x];
+    }
+    bool changed = false;
+    for (int i = 0; i < n; ++i)
+      if (active[i] && lambda[i] + delta[i] < 0.0) active[i] = false, changed = true;
+    // A let-go row must not end up closing faster than its bias allows: take it back if so.
+    for (int i = 0; i < n && !changed; ++i) {
+      if (active[i]) continue;
+      double closing = rhs[i];
+      for (int j = 0; j < n; ++j) closing -= K(i, j) * delta[j];
+      if (closing > 1e-9) active[i] = true, changed = true;
+    }
+    if (changed) continue;
+    for (int i = 0; i < n; ++i) {
+      SolverPoint& p = *rows[i].p;
+      p.normal.impulse = lambda[i] + delta[i];
+      p.maxNormalImpulse = std::max(p.maxNormalImpulse, delta[i]);
+      applyRow(bodies[rows[i].m->a], bodies[rows[i].m->b], p.normal, delta[i]);
+    }
+    return;
+  }
+}
+
 double combineFriction(double a, double b) {
   return std::sqrt(a * b);
 }
@@ -240,6 +350,13 @@ void World::Impl::solve(double dt) {
   ctx.staticSoft = makeSoft(2.0 * hertz, def.contactDampingRatio, h);
   ctx.anchorSoft = makeSoft(2.0 * hertz, def.contactDampingRatio, h);
 
+  auto solveDirectIslands = [&](const SolveContext& c, bool useBias) {
+    for (size_t i = 0; i < directManifolds.size(); ++i) {
+      solveIslandNormals(solverManifolds, solverBodies, &directManifolds[i], c, useBias);
+      while (directManifolds[i] >= 0) ++i;
+    }
+  };
+
   for (int sub = 0; sub < substeps; ++sub) {
     integrateVelocities(h);
     for (SolverManifold& m : solverManifolds) {  // warm start
@@ -248,6 +365,7 @@ void World::Impl::solve(double dt) {
       for (const SolverRow& r : m.friction) applyRow(A, B, r, r.impulse);
     }
     for (SolverManifold& m : solverManifolds) solveManifold(m, solverBodies, ctx, true);
+    solveDirectIslands(ctx, true);
     integratePositions(h);
     // Relax passes; each island runs its own number of them (computeLevels), and its last
     // one is a shock propagation pass (Guendelman et al. 2003): from the ground up, each
@@ -260,10 +378,12 @@ void World::Impl::solve(double dt) {
         if (relaxPasses[i] != r + 1) continue;
         SolverManifold& m = solverManifolds[i];
         const int la = levels[m.a], lb = levels[m.b];
-        const Moves moves = la < lb ? Moves::OnlyB : lb < la ? Moves::OnlyA : Moves::Both;
+        Moves moves = la < lb ? Moves::OnlyB : lb < la ? Moves::OnlyA : Moves::Both;
+        if (solvedDirectly[i]) moves = Moves::Both;  // no shock: the direct solve follows
         solveManifold(m, solverBodies, ctx, false, moves);
       }
     }
+    solveDirectIslands(ctx, false);
   }
 
   applyRestitution();
@@ -471,6 +591,8 @@ void World::Impl::storeImpulses() {
 void World::Impl::computeLevels() {
   const int n = static_cast<int>(solverBodies.size());
   constexpr int kFree = 1 << 30;
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  constexpr double kUnequalMass = 4.0;  // lightest vs heaviest body of an island
   levels.assign(n, kFree);
   adjacencyStart.assign(n + 1, 0);
   for (const SolverManifold& m : solverManifolds)
@@ -518,8 +640,15 @@ void World::Impl::computeLevels() {
     if (ra != rb) islandOf[std::max(ra, rb)] = std::min(ra, rb);
   }
   islandDepth.assign(n, 0);
-  for (int i = 0; i < n; ++i)
-    if (levels[i] != kFree) islandDepth[root(i)] = std::max(islandDepth[root(i)], levels[i]);
+  islandLightest.assign(n, 0.0), islandHeaviest.assign(n, kInf);  // as inverse masses
+  for (int i = 0; i < n; ++i) {
+    const int r = root(i);
+    if (levels[i] != kFree) islandDepth[r] = std::max(islandDepth[r], levels[i]);
+    const double im = solverBodies[i].invMass;
+    if (im == 0.0) continue;
+    islandLightest[r] = std::max(islandLightest[r], im);
+    islandHeaviest[r] = std::min(islandHeaviest[r], im);
+  }
   relaxPasses.resize(solverManifolds.size());
   for (size_t i = 0; i < solverManifolds.size(); ++i) {
     const SolverManifold& m = solverManifolds[i];
@@ -528,6 +657,41 @@ void World::Impl::computeLevels() {
     const int extra = depth > 9 ? (2 * (depth - 9) + 4) / 5 : 0;
     const int room = std::max(0, def.maxRelaxIterations - def.relaxIterations);
     relaxPasses[i] = def.relaxIterations + std::min(extra, room);
+  }
+
+  // Gauss-Seidel cannot hold a heavy body on a light one: each pass moves the heavy body by
+  // about the light one's share, so a 1000:1 pair sinks through (and shock propagation, which
+  // freezes the lower body, then hands the light body's push-out to the heavy one). Small
+  // islands whose masses differ by more than kUnequalMass get their normal impulses solved
+  // directly instead (solveNormalsDirectly); uniform piles never pay for it.
+  solvedDirectly.assign(solverManifolds.size(), 0);
+  directManifolds.clear();
+  std::vector<int>& points = fill;  // reused scratch: normal rows per island root
+  points.assign(n, 0);
+  auto islandOfManifold = [&](const SolverManifold& m) {
+    return root(solverBodies[m.a].invMass == 0.0 ? m.b : m.a);
+  };
+  for (const SolverManifold& m : solverManifolds) points[islandOfManifold(m)] += m.count;
+  std::vector<std::pair<int, int>>& tagged = directScratch;  // (island, manifold)
+  tagged.clear();
+  for (size_t i = 0; i < solverManifolds.size(); ++i) {
+    const int r = islandOfManifold(solverManifolds[i]);
+    if (points[r] > kDirectRows) continue;
+    if (islandLightest[r] <= kUnequalMass * islandHeaviest[r]) continue;
+    tagged.emplace_back(r, static_cast<int>(i));
+    solvedDirectly[i] = 1;
+    // Measured: anchor springs between a light and a heavy body feed a slowly growing
+    // sideways rocking (1000:1, after 3 s); these patches rely on velocity friction alone.
+    solverManifolds[i].anchored = false;
+  }
+  std::sort(tagged.begin(), tagged.end());
+  stats.directIslands = 0;
+  for (size_t k = 0; k < tagged.size(); ++k) {
+    directManifolds.push_back(tagged[k].second);
+    if (k + 1 == tagged.size() || tagged[k + 1].first != tagged[k].first) {
+      directManifolds.push_back(-1);
+      ++stats.directIslands;
+    }
   }
 }
 

@@ -116,6 +116,7 @@ struct SolverManifold {
   SolverPoint p[4];
   SolverRow friction[3];               // tangent 1, tangent 2, twist
   double anchorError[2] = {0.0, 0.0};  // tangential drift from the anchor at the step's start
+  bool anchored = true;                // whether the drift is pulled back (static friction)
   double K[4][4] = {};                 // normal coupling between the points: K_ij = J_i M^-1 J_j^T
 };
 
@@ -156,6 +157,12 @@ struct World::Impl {
   std::vector<detail::SolverManifold> solverManifolds;
   std::vector<int> levels, adjacencyStart, adjacency, shockOrder, fill, queue;  // shock order
   std::vector<int> islandOf, islandDepth, relaxPasses;  // relax passes per manifold
+  std::vector<double> islandLightest, islandHeaviest;   // inverse masses per island
+  // Small islands of very unequal masses, solved directly (lists of manifold indices, each
+  // list ended by -1), and per manifold whether it is in one.
+  std::vector<int> directManifolds;
+  std::vector<char> solvedDirectly;
+  std::vector<std::pair<int, int>> directScratch;
 
   std::vector<ContactEvent> beginEvents, endEvents;
   std::vector<SensorEvent> sensorBegin, sensorEnd;
