@@ -625,8 +625,8 @@ void World::Impl::computeLevels() {
 
   // Islands (union-find over the manifolds between moving bodies) and their heights. Support
   // must travel from the ground to the top of an island, and a Gauss-Seidel pass carries it
-  // only so far: measured, stacks of up to 9 levels stand with one relax pass, 20 need about
-  // 6 and 50 about 18. So an island deeper than 9 levels gets (2 (depth - 9) + 4) / 5 passes
+  // only so far: measured, stacks of up to 10 levels stand with one relax pass, 20 need about
+  // 5 and 50 about 18. So an island deeper than 10 levels gets (2 (depth - 10) + 4) / 5 passes
   // more than relaxIterations, up to maxRelaxIterations in all; low piles pay nothing extra.
   islandOf.resize(n);
   for (int i = 0; i < n; ++i) islandOf[i] = i;
@@ -654,7 +654,7 @@ void World::Impl::computeLevels() {
     const SolverManifold& m = solverManifolds[i];
     const int body = solverBodies[m.a].invMass == 0.0 ? m.b : m.a;
     const int depth = islandDepth[root(body)];
-    const int extra = depth > 9 ? (2 * (depth - 9) + 4) / 5 : 0;
+    const int extra = depth > 10 ? (2 * (depth - 10) + 4) / 5 : 0;
     const int room = std::max(0, def.maxRelaxIterations - def.relaxIterations);
     relaxPasses[i] = def.relaxIterations + std::min(extra, room);
   }
