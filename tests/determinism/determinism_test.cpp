@@ -24,10 +24,10 @@ std::string hex(uint64_t h) {
 // Release, x86-64; see docs/determinism.md).
 const std::map<std::string, std::string> kGolden = {
     {"pile200", "bfe2225fb46c3db9"},
-    {"stack20", "e2b0d4428dd41d73"},
-    {"ball_into_stack", "2011aa58c57deaa4"},
+    {"stack20", "9ea7945e03c3dcb8"},
+    {"ball_into_stack", "3999377bf4bb5378"},
     {"incline", "ca71d0471f78e36c"},
-    {"mixed", "29170ea896c1610b"},
+    {"mixed", "58dfe16792443386"},
 };
 
 }  // namespace
