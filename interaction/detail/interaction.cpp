@@ -117,7 +117,6 @@ struct Interaction::Impl {
   // Scratch, reused every update so the hot path does not allocate.
   std::vector<OverlapHit> hits;
   std::vector<SpringPoint> springs;
-  std::vector<Vec3> springNormal;
   std::vector<ConeResult> cone;
 
   const Hand& hand(HandId id, const char* field) const {
@@ -446,27 +445,26 @@ void Interaction::Impl::slideSample(const World& w, const Transform& body, Conta
   s.nLocal = body.rotateInverse(normal);
 }
 
-// The forces of all springs on one body: one implicit solve with every pressing sample as a
-// spring, then the friction cone per sample (eqs. 3.5-3.8). The cone only removes force.
-// (Re-solving with the clipped samples taken out of the implicit system was tried: it let the
-// clipped samples' kinetic forces, evaluated at a stale velocity, launch objects in power
-// grasps; the single solve does not.)
+// The forces of all springs on one body: the implicit solve with the friction cone inside it
+// (eqs. 3.5-3.8 decide per sample whether it sticks, slips or lets go, and the solve uses each
+// sample's law), or the explicit springs followed by the cone.
 void Interaction::Impl::solveSpringForces(const RigidBodyState& state, double muS, double muD,
                                           double dt) {
   const size_t n = springs.size();
   cone.resize(n);
-  const bool implicit = def.integration == SpringIntegration::Implicit;
-  const Twist vNext = implicit ? implicitVelocity(state, springs, dt) : Twist::Zero();
+  if (def.integration == SpringIntegration::Implicit) {
+    implicitConeForces(state, springs, muS, muD, def.slipLaw, dt, cone);
+    return;
+  }
   for (size_t j = 0; j < n; ++j) {
     const SpringPoint& sp = springs[j];
-    const Vec3 f = implicit ? implicitSpringForce(state, sp, vNext, dt)
-                            : sp.stiffness * (sp.target - sp.anchor);
-    cone[j] = frictionCone(f, springNormal[j], muS, muD, def.slipLaw);
+    cone[j] =
+        frictionCone(sp.stiffness * (sp.target - sp.anchor), sp.normal, muS, muD, def.slipLaw);
   }
 }
 
-// The force law, body by body: the implicit spring of every pressing sample on the body (one
-// 6x6 solve), then the friction cone per sample, then addForceAtPosition in a fixed order.
+// The force law, body by body: the implicit spring of every pressing sample on the body with
+// the friction cone inside the solve, then addForceAtPosition in a fixed order.
 void Interaction::Impl::applyFrictionForces(World& w, double dt) {
   for (size_t first = 0; first < contacts.size();) {
     const BodyId bodyId = contacts[first].body;
@@ -476,7 +474,6 @@ void Interaction::Impl::applyFrictionForces(World& w, double dt) {
     const Transform body = w.pose(bodyId);
     const Mat3 bodyR = body.q.toRotationMatrix();  // one matrix for all the body's samples
     springs.clear();
-    springNormal.clear();
     const double gamma = gammaFor(w, bodyId);
     for (size_t i = first; i < last; ++i) {
       Contact& c = contacts[i];
@@ -487,9 +484,8 @@ void Interaction::Impl::applyFrictionForces(World& w, double dt) {
       const Mat3 boneR = bone.q.toRotationMatrix();
       const double k = gamma / c.sampleCount;
       for (int s = 0; s < c.sampleCount; ++s) {
-        springs.push_back(
-            {bodyR * c.samples[s].cLocal + body.p, boneR * c.samples[s].pBone + bone.p, k});
-        springNormal.push_back(bodyR * c.samples[s].nLocal);
+        springs.push_back({bodyR * c.samples[s].cLocal + body.p,
+                           boneR * c.samples[s].pBone + bone.p, k, bodyR * c.samples[s].nLocal});
       }
     }
     if (springs.empty()) {
@@ -515,7 +511,7 @@ void Interaction::Impl::applyFrictionForces(World& w, double dt) {
       for (int si = 0; si < c.sampleCount; ++si, ++j) {
         const SpringPoint& sp = springs[j];
         Sample& s = c.samples[si];
-        const Vec3& n = springNormal[j];
+        const Vec3& n = sp.normal;
         const Vec3 stretch = sp.target - sp.anchor;
         depth -= stretch.dot(n);
         if (stretch.dot(n) < 0.0) springEnergy += 0.5 * sp.stiffness * stretch.squaredNorm();
