@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <string>
 
 namespace grip {
@@ -172,6 +173,8 @@ struct Interaction::Impl {
   void findContacts(const World& w);
   void refreshDynamicBodies(const World& w);
   bool keepPressingContact(const World& w, uint32_t hand, int bone, double reach);
+  void refineOnDistanceField(const World& w, BodyId body, const Shape& bone, const Transform& pose,
+                             Vec3& point, double& separation, Vec3& normal) const;
   void placeContactPoints(const World& w);
   void applyFrictionForces(World& w, double dt);
   void updateAttachments(World& w);
@@ -281,27 +284,33 @@ void Interaction::Impl::findContacts(const World& w) {
           }
         }
         nearPoint /= nearCount;
+        double separation = bestPoint->separation;
+        Vec3 normal = best->normal;
+        if (useClosestPoint(w, body)) {
+          refineOnDistanceField(w, body, *h.shapes.bones[bone], h.tracked.bones[bone], nearPoint,
+                                separation, normal);
+        }
         auto it = std::find_if(contacts.begin(), contacts.end(), [&](const Contact& c) {
           return c.hand == hi && c.bone == bone && c.body == body;
         });
         if (it == contacts.end()) {
-          if (bestPoint->separation > def.contactOffset) continue;
+          if (separation > def.contactOffset) continue;
           Contact c;
           c.hand = hi;
           c.bone = bone;
           c.body = body;
-          c.passive = bestPoint->separation < -def.resumeDepth;
+          c.passive = separation < -def.resumeDepth;
           contacts.push_back(c);
           it = contacts.end() - 1;
           it->fresh = true;
-          it->point = nearPoint + 0.5 * bestPoint->separation * best->normal;
-          it->normal = -best->normal;
+          it->point = nearPoint + 0.5 * separation * normal;
+          it->normal = -normal;
         }
         it->seen = true;
         it->child = best->childB;
-        it->separation = bestPoint->separation;
-        it->contactNormal = best->normal;
-        it->bonePoint = nearPoint - 0.5 * bestPoint->separation * best->normal;
+        it->separation = separation;
+        it->contactNormal = normal;
+        it->bonePoint = nearPoint - 0.5 * separation * normal;
       }
     }
   }
@@ -309,6 +318,46 @@ void Interaction::Impl::findContacts(const World& w) {
     if (!c.seen) endContact(c);
   }
   std::erase_if(contacts, [](const Contact& c) { return !c.seen; });
+}
+
+// On a body with a signed-distance field the nearest pair comes from the field, not from the
+// compound of boxes the narrowphase saw: a finger lying across a thin part (a mug's 9 mm handle,
+// a few voxel boxes thick) meets box corners at both ends of the overlap, and their middle or
+// their deepest point can sit off the part's centre line, where the closest surface point is on
+// its side. The capsule axis is sampled for its point nearest the surface. `point` becomes the
+// midpoint of the pair, `normal` points from the bone into the body (as a manifold's).
+void Interaction::Impl::refineOnDistanceField(const World& w, BodyId body, const Shape& bone,
+                                              const Transform& pose, Vec3& point,
+                                              double& separation, Vec3& normal) const {
+  if (bone.type() != ShapeType::Capsule) return;
+  constexpr int kAxisSamples = 9;
+  const Vec3 axis = pose.rotate(Vec3::UnitY());
+  std::array<double, kAxisSamples> sep{};
+  double deepest = std::numeric_limits<double>::infinity();
+  for (int k = 0; k < kAxisSamples; ++k) {
+    const double y = bone.halfHeight() * (2.0 * k / (kAxisSamples - 1) - 1.0);
+    sep[k] = w.closestPoint(body, pose.p + y * axis).distance - bone.radius();
+    if (std::isfinite(sep[k])) deepest = std::min(deepest, sep[k]);
+  }
+  if (!std::isfinite(deepest)) return;
+  // A bone lying along a face is about equally deep along its length: take the middle of the
+  // samples within 0.1 mm of the deepest, as for the manifold points.
+  double y = 0.0;
+  int count = 0;
+  for (int k = 0; k < kAxisSamples; ++k) {
+    if (sep[k] <= deepest + 1e-4) {
+      y += bone.halfHeight() * (2.0 * k / (kAxisSamples - 1) - 1.0);
+      ++count;
+    }
+  }
+  const Vec3 x = pose.p + (y / count) * axis;
+  const SurfacePoint sp = w.closestPoint(body, x);
+  if (!std::isfinite(sp.distance) || !isFinite(sp.normal)) return;
+  // The bone's surface point toward the body (x - r n, also right when x is inside) and the
+  // body's surface point; their midpoint, as a manifold point's position.
+  point = 0.5 * (x - bone.radius() * sp.normal + sp.point);
+  separation = sp.distance - bone.radius();
+  normal = -sp.normal;
 }
 
 // The dynamic bodies of the world, cached: World::bodies() returns a new vector, so it is only
