@@ -189,7 +189,12 @@ struct RollRun {
   int pressing = 0;
 };
 
-RollRun rollCylinder(double radius, double dy) {  // delta = 3 mm
+// A cylinder (radius R, axis z, half length 3 cm, 50 g) in zero gravity, pinched by the thumb
+// and index fingertips 3 mm deep: thumb on `thumbFace` (a surface point relative to the centre,
+// outward normal `thumbNormal`), index on the opposite side; the fingertip capsules lie along
+// `boneAxis`. The index moves dy along +y in 1 s while the thumb stays, then both hold 0.5 s.
+RollRun pinchAndMove(double radius, const Vec3& thumbFace, const Vec3& thumbNormal,
+                     const Vec3& indexFace, const Vec3& boneAxis, double dy) {
   World w;
   w.setGravity(Vec3::Zero());
   const BodyId cyl = addCylinder(w, radius, 0.03, 0.05, Vec3(0.0, 0.5, 0.0));
@@ -200,10 +205,9 @@ RollRun rollCylinder(double radius, double dy) {  // delta = 3 mm
   const double depth = 0.003;
   auto pinch = [&](double y) {
     HandPose p = parkedHand(hd);
-    pressBone(p, hd, boneIndex(Finger::Thumb, 2), c - radius * Vec3::UnitX(), -Vec3::UnitX(),
-              Vec3::UnitZ(), depth);
-    pressBone(p, hd, boneIndex(Finger::Index, 2), c + radius * Vec3::UnitX() + Vec3(0, y, 0),
-              Vec3::UnitX(), Vec3::UnitZ(), depth);
+    pressBone(p, hd, boneIndex(Finger::Thumb, 2), c + thumbFace, thumbNormal, boneAxis, depth);
+    pressBone(p, hd, boneIndex(Finger::Index, 2), c + indexFace + Vec3(0, y, 0), -thumbNormal,
+              boneAxis, depth);
     ix.setHandPose(h, p);
   };
   for (int i = 0; i < 20; ++i) {
@@ -230,7 +234,8 @@ TEST(Manipulation, OneFingerMovingTangentiallySpinsAPinchedCylinder) {
   // radius, turns it about twice as far.
   for (const auto& [radius, dy] :
        {std::pair{0.02, 0.005}, std::pair{0.02, 0.01}, std::pair{0.015, 0.01}}) {
-    const RollRun r = rollCylinder(radius, dy);
+    const RollRun r = pinchAndMove(radius, -radius * Vec3::UnitX(), -Vec3::UnitX(),
+                                   radius * Vec3::UnitX(), Vec3::UnitZ(), dy);
     const double expected = std::atan(dy / (2.0 * (radius - 0.003)));
     EXPECT_NEAR(r.rotation.z(), expected, 0.08 * expected) << radius << " " << dy;  // +z: +y at +x
     EXPECT_LT(std::hypot(r.rotation.x(), r.rotation.y()), 0.02);
@@ -246,47 +251,18 @@ TEST(Manipulation, OneFingerMovingTangentiallySpinsAPinchedCylinder) {
 // (about x), by the turn that keeps the index's contact under the finger, atan(dy / (L - 2
 // delta)) (measured 5-6 % less, as above), and hardly spins about z.
 TEST(Manipulation, OneFingerMovingOnAnEndFaceTiltsThePinchedCylinderAboutTheThumb) {
+  const double half = 0.03, offset = 0.012, depth = 0.003;
   for (const double dy : {0.004, 0.008}) {
-    World w;
-    w.setGravity(Vec3::Zero());
-    const double half = 0.03, offset = 0.012;
-    const BodyId cyl = addCylinder(w, 0.02, half, 0.05, Vec3(0.0, 0.5, 0.0));
-    Interaction ix;
-    HandDef hd;
-    const HandId h = ix.addHand(hd);
-    const Vec3 c = w.centerOfMass(cyl);
-    const double depth = 0.003;
-    auto pinch = [&](double y) {
-      HandPose p = parkedHand(hd);
-      pressBone(p, hd, boneIndex(Finger::Thumb, 2), c - half * Vec3::UnitZ(), -Vec3::UnitZ(),
-                Vec3::UnitX(), depth);
-      pressBone(p, hd, boneIndex(Finger::Index, 2), c + half * Vec3::UnitZ() + Vec3(offset, y, 0.0),
-                Vec3::UnitZ(), Vec3::UnitX(), depth);
-      ix.setHandPose(h, p);
-    };
-    for (int i = 0; i < 20; ++i) {
-      pinch(0.0);
-      ix.step(w, kDt);
-    }
-    const Quat q0 = w.pose(cyl).q;
-    const Vec3 p0 = w.centerOfMass(cyl);
-    for (int i = 1; i <= 60; ++i) {
-      pinch(dy * i / 60.0);
-      ix.step(w, kDt);
-    }
-    for (int i = 0; i < 30; ++i) {
-      pinch(dy);
-      ix.step(w, kDt);
-    }
-    const Eigen::AngleAxisd turn(w.pose(cyl).q * q0.conjugate());
-    const Vec3 rot = turn.angle() * turn.axis();
+    const RollRun r = pinchAndMove(0.02, -half * Vec3::UnitZ(), -Vec3::UnitZ(),
+                                   Vec3(offset, 0.0, half), Vec3::UnitX(), dy);
+    const Vec3& rot = r.rotation;
     const double expected = std::atan(dy / (2.0 * half - 2.0 * depth));
     EXPECT_NEAR(-rot.x(), expected, 0.08 * expected) << dy;  // -x: +y at +z
     EXPECT_LT(std::abs(rot.z()), 0.15 * expected) << dy;
     EXPECT_LT(std::abs(rot.y()), 0.01) << dy;
     // Its centre follows halfway, as a body turning about the thumb's end.
-    EXPECT_NEAR(w.centerOfMass(cyl).y() - p0.y(), 0.5 * dy, 0.1 * dy) << dy;
-    EXPECT_EQ(ix.stats().pressingContacts, 2);
+    EXPECT_NEAR(r.centreDy, 0.5 * dy, 0.1 * dy) << dy;
+    EXPECT_EQ(r.pressing, 2);
   }
 }
 
