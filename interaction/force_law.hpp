@@ -27,10 +27,11 @@ enum class SlipLaw : uint8_t {
 const char* slipLawName(SlipLaw s);
 
 struct ConeResult {
-  Vec3 force = Vec3::Zero();  // on the object, after the cone
-  double normalForce = 0.0;   // compressive magnitude f . (-n) (0 when tensile)
-  bool compressive = false;   // false: the bone pulls; no adhesion, so no force at all
-  bool slipping = false;      // outside the static cone (eq. 3.7)
+  Vec3 force = Vec3::Zero();          // on the object, after the cone
+  double normalForce = 0.0;           // compressive magnitude f . (-n) (0 when tensile)
+  bool compressive = false;           // false: the bone pulls; no adhesion, so no force at all
+  bool slipping = false;              // outside the static cone (eq. 3.7)
+  Vec3 slipDirection = Vec3::Zero();  // implicitConeForces: unit tangential direction of a slip
 };
 
 // Eqs. 3.5-3.8 on one force f (on the object) at a point with outward normal n. A tensile force

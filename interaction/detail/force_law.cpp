@@ -125,8 +125,7 @@ namespace {
 
 enum class SpringState : uint8_t { Free, Stick, Slip };
 
-// Where the cone solve keeps a spring's state between iterations: in its ConeResult (flags), with
-// the slip direction in `force` until the final forces are written.
+// Where the cone solve keeps a spring's state between iterations: in its ConeResult's flags.
 SpringState stateOf(const ConeResult& r) {
   return !r.compressive ? SpringState::Free : r.slipping ? SpringState::Slip : SpringState::Stick;
 }
@@ -178,10 +177,11 @@ ConeSolveResult implicitConeForces(const RigidBodyState& body, std::span<const S
   ConeSolveResult res;
   for (res.iterations = 1;; ++res.iterations) {
     // (M + h^2 sum k J^T P J) V+ = M V + h (F_ext + sum J^T k P e), P by state. Sticking
-    // springs by their moment sums (as in implicitVelocity), slipping ones as rank-one terms.
-    double k0 = 0.0;
+    // springs by their moment sums, K = [[k0 I, -[k1]x], [[k1]x, k2]] with k2 = sum k (|r|^2 I -
+    // r r^T), slipping ones as rank-one terms.
+    double k0 = 0.0, kr2 = 0.0;
     Vec3 k1 = Vec3::Zero();
-    Mat3 k2 = Mat3::Zero();
+    Mat3 krr = Mat3::Zero();
     Mat6 lowRank = Mat6::Zero();
     Twist rhs = Twist::Zero();
     bool symmetric = true;
@@ -197,72 +197,70 @@ ConeSolveResult implicitConeForces(const RigidBodyState& body, std::span<const S
         const double en = s.normal.dot(e);
         if (law == SlipLaw::ThesisLiteral) {  // mu_d of the whole spring, plus the normal rest
           const double kn = (1.0 - muD) * s.stiffness;
-          lowRank += kn * b * b.transpose();
+          lowRank.noalias() += (kn * b) * b.transpose();
           rhs += kn * en * b;
           kStick = muD * s.stiffness;
         } else {
-          const Twist a = wrench(s.normal - muD * out[i].force, r);
-          lowRank += s.stiffness * a * b.transpose();
+          const Twist a = wrench(s.normal - muD * out[i].slipDirection, r);
+          lowRank.noalias() += (s.stiffness * a) * b.transpose();
           rhs += s.stiffness * en * a;
           symmetric = false;
           continue;
         }
       }
+      const Vec3 kr = kStick * r;
       k0 += kStick;
-      k1 += kStick * r;
-      k2 += kStick * (r.squaredNorm() * Mat3::Identity() - r * r.transpose());
+      k1 += kr;
+      kr2 += kr.dot(r);
+      krr.noalias() += kr * r.transpose();
       rhs.head<3>() += kStick * e;
-      rhs.tail<3>() += r.cross(kStick * e);
+      rhs.tail<3>() += kr.cross(e);
     }
     const Mat3 R = skew(k1);
     Mat6 A = h2 * lowRank;
-    A.topLeftCorner<3, 3>() += (body.mass + h2 * k0) * Mat3::Identity();
+    A.topLeftCorner<3, 3>().diagonal().array() += body.mass + h2 * k0;
     A.topRightCorner<3, 3>() -= h2 * R;
     A.bottomLeftCorner<3, 3>() += h2 * R;
-    A.bottomRightCorner<3, 3>() += body.inertiaWorld + h2 * k2;
+    A.bottomRightCorner<3, 3>() += body.inertiaWorld - h2 * krr;
+    A.bottomRightCorner<3, 3>().diagonal().array() += h2 * kr2;
     rhs *= h;
     rhs.head<3>() += body.mass * body.linearVelocity + h * body.externalForce;
     rhs.tail<3>() += body.inertiaWorld * body.angularVelocity + h * body.externalTorque;
     res.velocity = symmetric ? Twist(A.ldlt().solve(rhs)) : Twist(A.partialPivLu().solve(rhs));
 
-    // Classify every spring at the solved V+.
+    // The force of each spring in the state V+ was solved with (final if nothing changes), and
+    // its classification at V+.
     bool changed = false;
     const bool mayStick = res.iterations <= kFreeIterations;
     for (size_t i = 0; i < n; ++i) {
       const SpringPoint& s = springs[i];
-      const SpringState st = stateOf(out[i]);
+      ConeResult& o = out[i];
+      const SpringState st = stateOf(o);
       const Vec3 e = s.target - s.anchor - h * pointVelocity(res.velocity, s.anchor - body.com);
-      Vec3 dir = out[i].force;
+      o.force = stateForce(st, s, e, o.slipDirection, muD, law);
+      o.normalForce = std::max(-o.force.dot(s.normal), 0.0);
+      Vec3 dir = o.slipDirection;
       SpringState next = classify(s, e, muS, dir);
       if (!mayStick && st != SpringState::Stick && next != SpringState::Free) next = st;
       if (!mayStick && st == SpringState::Free) next = st;
       // A slip direction that turned by less than about a degree is kept as solved with, so
       // that the forces stay the ones that produced V+.
       const bool turned = next == SpringState::Slip && law == SlipLaw::KineticCoulomb &&
-                          (st != SpringState::Slip || dir.dot(out[i].force) < 0.9998);
-      changed = changed || next != st || turned;
-      out[i].compressive = next != SpringState::Free;
-      out[i].slipping = next == SpringState::Slip;
-      if (turned || law != SlipLaw::KineticCoulomb) out[i].force = dir;
+                          (st != SpringState::Slip || dir.dot(o.slipDirection) < 0.9998);
+      if (next == st && !turned) continue;
+      changed = true;
+      o.compressive = next != SpringState::Free;
+      o.slipping = next == SpringState::Slip;
+      if (next == SpringState::Slip) o.slipDirection = dir;
     }
-    if (!changed || res.iterations == kMaxIterations) {
-      res.converged = !changed;
-      break;
-    }
+    if (!changed) return res;
+    if (res.iterations == kMaxIterations) break;
   }
-  // The forces at V+. Converged: each state's force is inside its cone by construction; at the
-  // cap the states were updated after the last solve, so the cone clips what does not fit.
+  // The cap: the forces are those of the states the last V+ was solved with; the cone clips
+  // what does not fit the states found at it.
+  res.converged = false;
   for (size_t i = 0; i < n; ++i) {
-    const SpringPoint& s = springs[i];
-    const Vec3 e = s.target - s.anchor - h * pointVelocity(res.velocity, s.anchor - body.com);
-    const Vec3 f = stateForce(stateOf(out[i]), s, e, out[i].force, muD, law);
-    if (res.converged) {
-      const double fn = -f.dot(s.normal);
-      out[i].normalForce = std::max(fn, 0.0);
-      out[i].force = f;
-    } else {
-      out[i] = frictionCone(f, s.normal, muS, muD, law);
-    }
+    out[i] = frictionCone(out[i].force, springs[i].normal, muS, muD, law);
   }
   return res;
 }

@@ -113,12 +113,14 @@ struct Interaction::Impl {
   std::vector<std::pair<BodyId, Vec3>> applied;  // per touched body, sorted
   InteractionStats stats;
   std::vector<BodyId> dynamicBodies;  // cached; refreshed when bodies come or go
+  std::vector<Aabb> dynamicBounds;    // their bounds, read once per update
   std::vector<BodyId> bodyScratch;
   std::array<int, kBonesPerHand> boneContact{};
   // Scratch, reused every update so the hot path does not allocate.
   std::vector<OverlapHit> hits;
   std::vector<SpringPoint> springs;
   std::vector<ConeResult> cone;
+  std::vector<Vec3> forceBatch, pointBatch;  // one addForcesAtPositions call per body
 
   const Hand& hand(HandId id, const char* field) const {
     if (id.index >= hands.size() || !hands[id.index].alive ||
@@ -172,7 +174,7 @@ struct Interaction::Impl {
   void dropDeadContacts(const World& w);
   void findContacts(const World& w);
   void refreshDynamicBodies(const World& w);
-  bool keepPressingContact(const World& w, uint32_t hand, int bone, double reach);
+  bool keepPressingContact(uint32_t hand, int bone, double reach);
   void refineOnDistanceField(const World& w, BodyId body, const Shape& bone, const Transform& pose,
                              Vec3& point, double& separation, Vec3& normal) const;
   void placeContactPoints(const World& w);
@@ -253,7 +255,7 @@ void Interaction::Impl::findContacts(const World& w) {
       slot = slot == -1 ? static_cast<int>(i) : -2;
     }
     for (int bone = 0; bone < kBonesPerHand; ++bone) {
-      if (keepPressingContact(w, hi, bone, reach)) continue;
+      if (keepPressingContact(hi, bone, reach)) continue;
       hits.clear();
       w.overlap(*h.shapes.bones[bone], h.tracked.bones[bone], reach, hits);
       for (size_t i = 0; i < hits.size(); ++i) {
@@ -361,31 +363,35 @@ void Interaction::Impl::refineOnDistanceField(const World& w, BodyId body, const
 }
 
 // The dynamic bodies of the world, cached: World::bodies() returns a new vector, so it is only
-// called when the cached list is stale (a body count change or a cached id gone).
+// called when the cached list is stale (a body count change or a cached id gone). Their bounds
+// are read once per update, for keepPressingContact.
 void Interaction::Impl::refreshDynamicBodies(const World& w) {
   bool stale = bodyScratch.size() != static_cast<size_t>(w.bodyCount());
   for (size_t i = 0; !stale && i < bodyScratch.size(); ++i) stale = !w.isValid(bodyScratch[i]);
-  if (!stale) return;
-  bodyScratch = w.bodies();
-  dynamicBodies.clear();
-  for (BodyId b : bodyScratch) {
-    if (w.bodyType(b) == BodyType::Dynamic) dynamicBodies.push_back(b);
+  if (stale) {
+    bodyScratch = w.bodies();
+    dynamicBodies.clear();
+    for (BodyId b : bodyScratch) {
+      if (w.bodyType(b) == BodyType::Dynamic) dynamicBodies.push_back(b);
+    }
   }
+  dynamicBounds.clear();
+  for (BodyId b : dynamicBodies) dynamicBounds.push_back(w.bounds(b));
 }
 
 // A bone pressing into a body, with no other dynamic body's bounds near it, needs no overlap
 // query this step: it is inside the body it presses (the patch lets go when the press turns
 // tensile, and the next query then decides whether the contact ends). The narrowphase query is
 // most of the cost of a firm grasp; this skips it exactly when it cannot find anything new.
-bool Interaction::Impl::keepPressingContact(const World& w, uint32_t hand, int bone, double reach) {
+bool Interaction::Impl::keepPressingContact(uint32_t hand, int bone, double reach) {
   const int index = boneContact[bone];
   if (index < 0) return false;  // none, or contacts with several bodies
   Contact& c = contacts[index];
   if (!c.anchored || c.passive) return false;
   const Hand& h = hands[hand];
   const Aabb box = h.shapes.bones[bone]->bounds(h.tracked.bones[bone]).inflated(reach);
-  for (BodyId b : dynamicBodies) {
-    if (b != c.body && w.bounds(b).overlaps(box)) return false;
+  for (size_t i = 0; i < dynamicBodies.size(); ++i) {
+    if (dynamicBodies[i] != c.body && dynamicBounds[i].overlaps(box)) return false;
   }
   c.seen = true;
   return true;
@@ -513,7 +519,7 @@ void Interaction::Impl::solveSpringForces(const RigidBodyState& state, double mu
 }
 
 // The force law, body by body: the implicit spring of every pressing sample on the body with
-// the friction cone inside the solve, then addForceAtPosition in a fixed order.
+// the friction cone inside the solve, then the forces at their points in a fixed order.
 void Interaction::Impl::applyFrictionForces(World& w, double dt) {
   for (size_t first = 0; first < contacts.size();) {
     const BodyId bodyId = contacts[first].body;
@@ -552,6 +558,8 @@ void Interaction::Impl::applyFrictionForces(World& w, double dt) {
     const double muD = muDynamic(bodyId);
 
     Vec3 total = Vec3::Zero();
+    forceBatch.clear();
+    pointBatch.clear();
     size_t j = 0;
     for (size_t i = first; i < last; ++i) {
       Contact& c = contacts[i];
@@ -566,7 +574,8 @@ void Interaction::Impl::applyFrictionForces(World& w, double dt) {
         if (stretch.dot(n) < 0.0) springEnergy += 0.5 * sp.stiffness * stretch.squaredNorm();
         const ConeResult& r = cone[j];
         if (!r.compressive) continue;
-        w.addForceAtPosition(bodyId, r.force, sp.anchor, ForceMode::Force);
+        forceBatch.push_back(r.force);
+        pointBatch.push_back(sp.anchor);
         c.force += r.force;
         if (r.slipping) {
           c.slipping = true;
@@ -583,6 +592,8 @@ void Interaction::Impl::applyFrictionForces(World& w, double dt) {
       c.point = body.apply(c.samples[0].cLocal);
       c.normal = body.rotate(c.samples[0].nLocal);
     }
+    // Sample by sample in the fixed order, as addForceAtPosition would (bit for bit).
+    w.addForcesAtPositions(bodyId, forceBatch, pointBatch, ForceMode::Force);
     applied.emplace_back(bodyId, total);
     nextMemory.push_back({bodyId, w.stepCount(), w.time(), state.linearVelocity,
                           state.angularVelocity, w.accumulatedForce(bodyId),
