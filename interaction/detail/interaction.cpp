@@ -539,8 +539,9 @@ void Interaction::Impl::applyFrictionForces(World& w, double dt) {
       const Mat3 boneR = bone.q.toRotationMatrix();
       const double k = gamma / c.sampleCount;
       for (int s = 0; s < c.sampleCount; ++s) {
-        springs.push_back({bodyR * c.samples[s].cLocal + body.p,
-                           boneR * c.samples[s].pBone + bone.p, k, bodyR * c.samples[s].nLocal});
+        const Sample& sm = c.samples[s];
+        springs.push_back(
+            {bodyR * sm.cLocal + body.p, boneR * sm.pBone + bone.p, k, bodyR * sm.nLocal});
       }
     }
     if (springs.empty()) {
@@ -570,8 +571,9 @@ void Interaction::Impl::applyFrictionForces(World& w, double dt) {
         Sample& s = c.samples[si];
         const Vec3& n = sp.normal;
         const Vec3 stretch = sp.target - sp.anchor;
-        depth -= stretch.dot(n);
-        if (stretch.dot(n) < 0.0) springEnergy += 0.5 * sp.stiffness * stretch.squaredNorm();
+        const double along = stretch.dot(n);
+        depth -= along;
+        if (along < 0.0) springEnergy += 0.5 * sp.stiffness * stretch.squaredNorm();
         const ConeResult& r = cone[j];
         if (!r.compressive) continue;
         forceBatch.push_back(r.force);
