@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <memory>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -136,6 +137,11 @@ class World {
   void addForceAtPosition(BodyId id, const Vec3& force, const Vec3& worldPoint,
                           ForceMode mode = ForceMode::Force);
   void addTorque(BodyId id, const Vec3& torque, ForceMode mode = ForceMode::Force);
+  // forces[i] at worldPoints[i] on one body: the same as addForceAtPosition for each i in order
+  // (bit for bit), with one body lookup and one wake. Throws before applying anything when the
+  // sizes differ or a vector is not finite.
+  void addForcesAtPositions(BodyId id, std::span<const Vec3> forces,
+                            std::span<const Vec3> worldPoints, ForceMode mode = ForceMode::Force);
   // The force and torque (about the centre of mass) accumulated for the next step.
   Vec3 accumulatedForce(BodyId id) const;
   Vec3 accumulatedTorque(BodyId id) const;

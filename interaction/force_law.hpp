@@ -27,10 +27,11 @@ enum class SlipLaw : uint8_t {
 const char* slipLawName(SlipLaw s);
 
 struct ConeResult {
-  Vec3 force = Vec3::Zero();  // on the object, after the cone
-  double normalForce = 0.0;   // compressive magnitude f . (-n) (0 when tensile)
-  bool compressive = false;   // false: the bone pulls; no adhesion, so no force at all
-  bool slipping = false;      // outside the static cone (eq. 3.7)
+  Vec3 force = Vec3::Zero();          // on the object, after the cone
+  double normalForce = 0.0;           // compressive magnitude f . (-n) (0 when tensile)
+  bool compressive = false;           // false: the bone pulls; no adhesion, so no force at all
+  bool slipping = false;              // outside the static cone (eq. 3.7)
+  Vec3 slipDirection = Vec3::Zero();  // implicitConeForces: unit tangential direction of a slip
 };
 
 // Eqs. 3.5-3.8 on one force f (on the object) at a point with outward normal n. A tensile force
@@ -77,6 +78,7 @@ struct SpringPoint {
   Vec3 anchor = Vec3::Zero();
   Vec3 target = Vec3::Zero();
   double stiffness = 0.0;
+  Vec3 normal = Vec3::UnitY();  // outward surface normal at the anchor (for the cone)
 };
 
 using Twist = Eigen::Matrix<double, 6, 1>;  // (v, w) of the centre of mass
@@ -87,5 +89,26 @@ Twist implicitVelocity(const RigidBodyState& body, std::span<const SpringPoint> 
 // The spring force on the object at the end of the step: k (p - C - h J V+).
 Vec3 implicitSpringForce(const RigidBodyState& body, const SpringPoint& s, const Twist& vNext,
                          double h);
+
+// The implicit spring with the friction cone inside the solve. Every spring is in one of three
+// states, each a linear force law in V+ (with e = p - C - h J V+):
+//   stick:  f = k e                               (inside the static cone)
+//   slip:   f = k (n - mu_d t) n^T e              (KineticCoulomb: the normal spring, and
+//           mu_d times that normal force along the tangential direction t; ThesisLiteral:
+//           f = k (n n^T + mu_d (I - n n^T)) e)
+//   free:   f = 0                                 (tensile: no adhesion)
+// The states are found by iterating solve -> classify with eq. 3.7 on the stick force at the
+// solved V+ until nothing changes (a few iterations; after kFreeIterations states only move
+// toward slip or free, so the loop ends). The forces returned are the ones that produce V+
+// through the integrator exactly, so sticking samples never brace against a velocity that the
+// slipping ones do not deliver (the launch of heavy slipping with a stick-only solve).
+struct ConeSolveResult {
+  Twist velocity = Twist::Zero();  // V+
+  int iterations = 0;
+  bool converged = true;  // false: the cap was hit; the forces are then clipped to the cone
+};
+ConeSolveResult implicitConeForces(const RigidBodyState& body, std::span<const SpringPoint> springs,
+                                   double muStatic, double muDynamic, SlipLaw law, double h,
+                                   std::span<ConeResult> out);
 
 }  // namespace grip

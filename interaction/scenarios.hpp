@@ -15,6 +15,11 @@ BodyId addBox(World& w, const Vec3& halfExtents, double mass, const Vec3& positi
               const Quat& orientation = Quat::Identity(), double staticFriction = 0.6,
               double dynamicFriction = 0.5);
 
+// A dynamic cylinder: a `sides`-sided prism of the given radius, its axis along the local z axis
+// from -halfLength to +halfLength.
+BodyId addCylinder(World& w, double radius, double halfLength, double mass, const Vec3& position,
+                   const Quat& orientation = Quat::Identity(), int sides = 32);
+
 // A Jenga-like tower on the floor: `layers` layers of 3 blocks (7.5 x 1.5 x 2.5 cm, 14 g, wood
 // on wood mu_s 0.4, mu_d 0.35), each layer crossed with the one below; the even layers run along
 // x. blocks[3 * layer + k], k = 0..2 from -z (or -x) to +z (or +x).
@@ -33,6 +38,14 @@ HandPose parkedHand(const HandDef& def, const Vec3& where = Vec3(0.0, 10.0, 0.0)
 // along the normal). The bone's nearest surface point is then facePoint - depth * faceNormal.
 void pressBone(HandPose& pose, const HandDef& def, int bone, const Vec3& facePoint,
                const Vec3& faceNormal, const Vec3& axis, double depth);
+
+// Closes a hand on a body the way a grasp planner does (GraspIt's auto-grasp): from `from`
+// toward `to`, the joints of each finger turn together in `steps` small steps; once a bone of
+// the finger has sunk `squeeze` into the body, the joints up to that bone stop and the joints
+// beyond it keep closing (so the finger wraps around the body). The palm stays at `palm`.
+// Returns the joint angles where every finger stopped; the spread is taken from `to`.
+HandShape closeHandOn(const World& w, BodyId body, const HandDef& def, const Transform& palm,
+                      const HandShape& from, const HandShape& to, double squeeze, int steps = 400);
 
 // Two opposing fingertips (thumb and index distal capsules, axes along z) squeezing the x faces
 // of an axis-aligned cube of half width `halfWidth` centred at `centre`, each sunk `depth` into

@@ -242,6 +242,65 @@ void World::addForceAtPosition(BodyId id, const Vec3& f, const Vec3& x, ForceMod
   addTorque(id, torque, mode);
 }
 
+void World::addForcesAtPositions(BodyId id, std::span<const Vec3> forces,
+                                 std::span<const Vec3> points, ForceMode mode) {
+  Body& b = impl_->body(id, "addForcesAtPositions.id");
+  if (forces.size() != points.size()) {
+    throw Error("addForcesAtPositions.worldPoints", "has " + std::to_string(points.size()) +
+                                                        " points for " +
+                                                        std::to_string(forces.size()) + " forces");
+  }
+  // x * 0 is 0 for a finite x and NaN otherwise: one sum checks every component.
+  Vec3 check = Vec3::Zero();
+  for (size_t i = 0; i < forces.size(); ++i) check += 0.0 * forces[i] + 0.0 * points[i];
+  if (!check.isZero(0.0)) {
+    for (size_t i = 0; i < forces.size(); ++i) {
+      requireFinite(forces[i], "addForcesAtPositions.forces");
+      requireFinite(points[i], "addForcesAtPositions.worldPoints");
+    }
+  }
+  if (!b.isDynamic() || forces.empty()) return;
+  // Accumulated one by one, in order, as addForce and addTorque would (bit for bit).
+  Vec3* linear = &b.force;
+  Vec3* angular = &b.torque;
+  Mat3 angularScale = Mat3::Identity();
+  double linearScale = 1.0;
+  switch (mode) {
+    case ForceMode::Force:
+      break;
+    case ForceMode::Acceleration:
+      linear = &b.linearAccel;
+      angular = &b.angularAccel;
+      break;
+    case ForceMode::Impulse:
+      linear = &b.v;
+      angular = &b.w;
+      linearScale = b.invMass;
+      angularScale = b.invInertiaWorld();
+      break;
+    case ForceMode::VelocityChange:
+      linear = &b.v;
+      angular = &b.w;
+      break;
+  }
+  Vec3 sumF = *linear, sumT = *angular;
+  const bool scaled = mode == ForceMode::Impulse;
+  for (size_t i = 0; i < forces.size(); ++i) {
+    const Vec3& f = forces[i];
+    const Vec3 torque = (points[i] - b.com).cross(f);
+    if (scaled) {
+      sumF += linearScale * f;
+      sumT += angularScale * torque;
+    } else {
+      sumF += f;
+      sumT += torque;
+    }
+  }
+  *linear = sumF;
+  *angular = sumT;
+  impl_->wakeBody(id.index);
+}
+
 Vec3 World::accumulatedForce(BodyId id) const {
   const Body& b = impl_->body(id, "accumulatedForce.id");
   if (b.invMass == 0.0) return b.force;

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <string>
 
 namespace grip {
@@ -112,13 +113,14 @@ struct Interaction::Impl {
   std::vector<std::pair<BodyId, Vec3>> applied;  // per touched body, sorted
   InteractionStats stats;
   std::vector<BodyId> dynamicBodies;  // cached; refreshed when bodies come or go
+  std::vector<Aabb> dynamicBounds;    // their bounds, read once per update
   std::vector<BodyId> bodyScratch;
   std::array<int, kBonesPerHand> boneContact{};
   // Scratch, reused every update so the hot path does not allocate.
   std::vector<OverlapHit> hits;
   std::vector<SpringPoint> springs;
-  std::vector<Vec3> springNormal;
   std::vector<ConeResult> cone;
+  std::vector<Vec3> forceBatch, pointBatch;  // one addForcesAtPositions call per body
 
   const Hand& hand(HandId id, const char* field) const {
     if (id.index >= hands.size() || !hands[id.index].alive ||
@@ -172,7 +174,9 @@ struct Interaction::Impl {
   void dropDeadContacts(const World& w);
   void findContacts(const World& w);
   void refreshDynamicBodies(const World& w);
-  bool keepPressingContact(const World& w, uint32_t hand, int bone, double reach);
+  bool keepPressingContact(uint32_t hand, int bone, double reach);
+  void refineOnDistanceField(const World& w, BodyId body, const Shape& bone, const Transform& pose,
+                             Vec3& point, double& separation, Vec3& normal) const;
   void placeContactPoints(const World& w);
   void applyFrictionForces(World& w, double dt);
   void updateAttachments(World& w);
@@ -251,7 +255,7 @@ void Interaction::Impl::findContacts(const World& w) {
       slot = slot == -1 ? static_cast<int>(i) : -2;
     }
     for (int bone = 0; bone < kBonesPerHand; ++bone) {
-      if (keepPressingContact(w, hi, bone, reach)) continue;
+      if (keepPressingContact(hi, bone, reach)) continue;
       hits.clear();
       w.overlap(*h.shapes.bones[bone], h.tracked.bones[bone], reach, hits);
       for (size_t i = 0; i < hits.size(); ++i) {
@@ -282,27 +286,33 @@ void Interaction::Impl::findContacts(const World& w) {
           }
         }
         nearPoint /= nearCount;
+        double separation = bestPoint->separation;
+        Vec3 normal = best->normal;
+        if (useClosestPoint(w, body)) {
+          refineOnDistanceField(w, body, *h.shapes.bones[bone], h.tracked.bones[bone], nearPoint,
+                                separation, normal);
+        }
         auto it = std::find_if(contacts.begin(), contacts.end(), [&](const Contact& c) {
           return c.hand == hi && c.bone == bone && c.body == body;
         });
         if (it == contacts.end()) {
-          if (bestPoint->separation > def.contactOffset) continue;
+          if (separation > def.contactOffset) continue;
           Contact c;
           c.hand = hi;
           c.bone = bone;
           c.body = body;
-          c.passive = bestPoint->separation < -def.resumeDepth;
+          c.passive = separation < -def.resumeDepth;
           contacts.push_back(c);
           it = contacts.end() - 1;
           it->fresh = true;
-          it->point = nearPoint + 0.5 * bestPoint->separation * best->normal;
-          it->normal = -best->normal;
+          it->point = nearPoint + 0.5 * separation * normal;
+          it->normal = -normal;
         }
         it->seen = true;
         it->child = best->childB;
-        it->separation = bestPoint->separation;
-        it->contactNormal = best->normal;
-        it->bonePoint = nearPoint - 0.5 * bestPoint->separation * best->normal;
+        it->separation = separation;
+        it->contactNormal = normal;
+        it->bonePoint = nearPoint - 0.5 * separation * normal;
       }
     }
   }
@@ -312,32 +322,76 @@ void Interaction::Impl::findContacts(const World& w) {
   std::erase_if(contacts, [](const Contact& c) { return !c.seen; });
 }
 
+// On a body with a signed-distance field the nearest pair comes from the field, not from the
+// compound of boxes the narrowphase saw: a finger lying across a thin part (a mug's 9 mm handle,
+// a few voxel boxes thick) meets box corners at both ends of the overlap, and their middle or
+// their deepest point can sit off the part's centre line, where the closest surface point is on
+// its side. The capsule axis is sampled for its point nearest the surface. `point` becomes the
+// midpoint of the pair, `normal` points from the bone into the body (as a manifold's).
+void Interaction::Impl::refineOnDistanceField(const World& w, BodyId body, const Shape& bone,
+                                              const Transform& pose, Vec3& point,
+                                              double& separation, Vec3& normal) const {
+  if (bone.type() != ShapeType::Capsule) return;
+  constexpr int kAxisSamples = 9;
+  const Vec3 axis = pose.rotate(Vec3::UnitY());
+  std::array<double, kAxisSamples> sep{};
+  double deepest = std::numeric_limits<double>::infinity();
+  for (int k = 0; k < kAxisSamples; ++k) {
+    const double y = bone.halfHeight() * (2.0 * k / (kAxisSamples - 1) - 1.0);
+    sep[k] = w.closestPoint(body, pose.p + y * axis).distance - bone.radius();
+    if (std::isfinite(sep[k])) deepest = std::min(deepest, sep[k]);
+  }
+  if (!std::isfinite(deepest)) return;
+  // A bone lying along a face is about equally deep along its length: take the middle of the
+  // samples within 0.1 mm of the deepest, as for the manifold points.
+  double y = 0.0;
+  int count = 0;
+  for (int k = 0; k < kAxisSamples; ++k) {
+    if (sep[k] <= deepest + 1e-4) {
+      y += bone.halfHeight() * (2.0 * k / (kAxisSamples - 1) - 1.0);
+      ++count;
+    }
+  }
+  const Vec3 x = pose.p + (y / count) * axis;
+  const SurfacePoint sp = w.closestPoint(body, x);
+  if (!std::isfinite(sp.distance) || !isFinite(sp.normal)) return;
+  // The bone's surface point toward the body (x - r n, also right when x is inside) and the
+  // body's surface point; their midpoint, as a manifold point's position.
+  point = 0.5 * (x - bone.radius() * sp.normal + sp.point);
+  separation = sp.distance - bone.radius();
+  normal = -sp.normal;
+}
+
 // The dynamic bodies of the world, cached: World::bodies() returns a new vector, so it is only
-// called when the cached list is stale (a body count change or a cached id gone).
+// called when the cached list is stale (a body count change or a cached id gone). Their bounds
+// are read once per update, for keepPressingContact.
 void Interaction::Impl::refreshDynamicBodies(const World& w) {
   bool stale = bodyScratch.size() != static_cast<size_t>(w.bodyCount());
   for (size_t i = 0; !stale && i < bodyScratch.size(); ++i) stale = !w.isValid(bodyScratch[i]);
-  if (!stale) return;
-  bodyScratch = w.bodies();
-  dynamicBodies.clear();
-  for (BodyId b : bodyScratch) {
-    if (w.bodyType(b) == BodyType::Dynamic) dynamicBodies.push_back(b);
+  if (stale) {
+    bodyScratch = w.bodies();
+    dynamicBodies.clear();
+    for (BodyId b : bodyScratch) {
+      if (w.bodyType(b) == BodyType::Dynamic) dynamicBodies.push_back(b);
+    }
   }
+  dynamicBounds.clear();
+  for (BodyId b : dynamicBodies) dynamicBounds.push_back(w.bounds(b));
 }
 
 // A bone pressing into a body, with no other dynamic body's bounds near it, needs no overlap
 // query this step: it is inside the body it presses (the patch lets go when the press turns
 // tensile, and the next query then decides whether the contact ends). The narrowphase query is
 // most of the cost of a firm grasp; this skips it exactly when it cannot find anything new.
-bool Interaction::Impl::keepPressingContact(const World& w, uint32_t hand, int bone, double reach) {
+bool Interaction::Impl::keepPressingContact(uint32_t hand, int bone, double reach) {
   const int index = boneContact[bone];
   if (index < 0) return false;  // none, or contacts with several bodies
   Contact& c = contacts[index];
   if (!c.anchored || c.passive) return false;
   const Hand& h = hands[hand];
   const Aabb box = h.shapes.bones[bone]->bounds(h.tracked.bones[bone]).inflated(reach);
-  for (BodyId b : dynamicBodies) {
-    if (b != c.body && w.bounds(b).overlaps(box)) return false;
+  for (size_t i = 0; i < dynamicBodies.size(); ++i) {
+    if (dynamicBodies[i] != c.body && dynamicBounds[i].overlaps(box)) return false;
   }
   c.seen = true;
   return true;
@@ -446,27 +500,26 @@ void Interaction::Impl::slideSample(const World& w, const Transform& body, Conta
   s.nLocal = body.rotateInverse(normal);
 }
 
-// The forces of all springs on one body: one implicit solve with every pressing sample as a
-// spring, then the friction cone per sample (eqs. 3.5-3.8). The cone only removes force.
-// (Re-solving with the clipped samples taken out of the implicit system was tried: it let the
-// clipped samples' kinetic forces, evaluated at a stale velocity, launch objects in power
-// grasps; the single solve does not.)
+// The forces of all springs on one body: the implicit solve with the friction cone inside it
+// (eqs. 3.5-3.8 decide per sample whether it sticks, slips or lets go, and the solve uses each
+// sample's law), or the explicit springs followed by the cone.
 void Interaction::Impl::solveSpringForces(const RigidBodyState& state, double muS, double muD,
                                           double dt) {
   const size_t n = springs.size();
   cone.resize(n);
-  const bool implicit = def.integration == SpringIntegration::Implicit;
-  const Twist vNext = implicit ? implicitVelocity(state, springs, dt) : Twist::Zero();
+  if (def.integration == SpringIntegration::Implicit) {
+    implicitConeForces(state, springs, muS, muD, def.slipLaw, dt, cone);
+    return;
+  }
   for (size_t j = 0; j < n; ++j) {
     const SpringPoint& sp = springs[j];
-    const Vec3 f = implicit ? implicitSpringForce(state, sp, vNext, dt)
-                            : sp.stiffness * (sp.target - sp.anchor);
-    cone[j] = frictionCone(f, springNormal[j], muS, muD, def.slipLaw);
+    cone[j] =
+        frictionCone(sp.stiffness * (sp.target - sp.anchor), sp.normal, muS, muD, def.slipLaw);
   }
 }
 
-// The force law, body by body: the implicit spring of every pressing sample on the body (one
-// 6x6 solve), then the friction cone per sample, then addForceAtPosition in a fixed order.
+// The force law, body by body: the implicit spring of every pressing sample on the body with
+// the friction cone inside the solve, then the forces at their points in a fixed order.
 void Interaction::Impl::applyFrictionForces(World& w, double dt) {
   for (size_t first = 0; first < contacts.size();) {
     const BodyId bodyId = contacts[first].body;
@@ -476,7 +529,6 @@ void Interaction::Impl::applyFrictionForces(World& w, double dt) {
     const Transform body = w.pose(bodyId);
     const Mat3 bodyR = body.q.toRotationMatrix();  // one matrix for all the body's samples
     springs.clear();
-    springNormal.clear();
     const double gamma = gammaFor(w, bodyId);
     for (size_t i = first; i < last; ++i) {
       Contact& c = contacts[i];
@@ -487,9 +539,9 @@ void Interaction::Impl::applyFrictionForces(World& w, double dt) {
       const Mat3 boneR = bone.q.toRotationMatrix();
       const double k = gamma / c.sampleCount;
       for (int s = 0; s < c.sampleCount; ++s) {
+        const Sample& sm = c.samples[s];
         springs.push_back(
-            {bodyR * c.samples[s].cLocal + body.p, boneR * c.samples[s].pBone + bone.p, k});
-        springNormal.push_back(bodyR * c.samples[s].nLocal);
+            {bodyR * sm.cLocal + body.p, boneR * sm.pBone + bone.p, k, bodyR * sm.nLocal});
       }
     }
     if (springs.empty()) {
@@ -507,6 +559,8 @@ void Interaction::Impl::applyFrictionForces(World& w, double dt) {
     const double muD = muDynamic(bodyId);
 
     Vec3 total = Vec3::Zero();
+    forceBatch.clear();
+    pointBatch.clear();
     size_t j = 0;
     for (size_t i = first; i < last; ++i) {
       Contact& c = contacts[i];
@@ -515,13 +569,15 @@ void Interaction::Impl::applyFrictionForces(World& w, double dt) {
       for (int si = 0; si < c.sampleCount; ++si, ++j) {
         const SpringPoint& sp = springs[j];
         Sample& s = c.samples[si];
-        const Vec3& n = springNormal[j];
+        const Vec3& n = sp.normal;
         const Vec3 stretch = sp.target - sp.anchor;
-        depth -= stretch.dot(n);
-        if (stretch.dot(n) < 0.0) springEnergy += 0.5 * sp.stiffness * stretch.squaredNorm();
+        const double along = stretch.dot(n);
+        depth -= along;
+        if (along < 0.0) springEnergy += 0.5 * sp.stiffness * stretch.squaredNorm();
         const ConeResult& r = cone[j];
         if (!r.compressive) continue;
-        w.addForceAtPosition(bodyId, r.force, sp.anchor, ForceMode::Force);
+        forceBatch.push_back(r.force);
+        pointBatch.push_back(sp.anchor);
         c.force += r.force;
         if (r.slipping) {
           c.slipping = true;
@@ -538,6 +594,8 @@ void Interaction::Impl::applyFrictionForces(World& w, double dt) {
       c.point = body.apply(c.samples[0].cLocal);
       c.normal = body.rotate(c.samples[0].nLocal);
     }
+    // Sample by sample in the fixed order, as addForceAtPosition would (bit for bit).
+    w.addForcesAtPositions(bodyId, forceBatch, pointBatch, ForceMode::Force);
     applied.emplace_back(bodyId, total);
     nextMemory.push_back({bodyId, w.stepCount(), w.time(), state.linearVelocity,
                           state.angularVelocity, w.accumulatedForce(bodyId),

@@ -1,6 +1,8 @@
 #include "interaction/scenarios.hpp"
 
 #include <algorithm>
+#include <cmath>
+#include <limits>
 
 namespace grip::scenarios {
 
@@ -24,6 +26,25 @@ BodyId addBox(World& w, const Vec3& halfExtents, double mass, const Vec3& positi
   d.material.staticFriction = staticFriction;
   d.material.dynamicFriction = dynamicFriction;
   d.name = "box";
+  return w.createBody(d);
+}
+
+BodyId addCylinder(World& w, double radius, double halfLength, double mass, const Vec3& position,
+                   const Quat& orientation, int sides) {
+  if (sides < 3) throw Error("addCylinder.sides", "must be at least 3");
+  std::vector<Vec3> pts;
+  for (int i = 0; i < sides; ++i) {
+    const double a = 2.0 * kPi * i / sides;
+    for (double z : {-halfLength, halfLength}) {
+      pts.emplace_back(radius * std::cos(a), radius * std::sin(a), z);
+    }
+  }
+  BodyDef d;
+  d.shape = Shape::convexHull(pts);
+  d.mass = mass;
+  d.position = position;
+  d.orientation = orientation;
+  d.name = "cylinder";
   return w.createBody(d);
 }
 
@@ -70,6 +91,53 @@ void pressBone(HandPose& pose, const HandDef& def, int bone, const Vec3& facePoi
   const double r = def.scale * def.fingers[f].radius[seg];
   t.q = Quat::FromTwoVectors(Vec3::UnitY(), axis.normalized());
   t.p = facePoint + n * (r - depth);
+}
+
+namespace {
+
+// The deepest penetration of one bone into one body (positive inside), or -inf apart.
+double boneDepth(const World& w, BodyId body, const Shape& bone, const Transform& t,
+                 std::vector<OverlapHit>& hits) {
+  double depth = -std::numeric_limits<double>::infinity();
+  w.overlap(bone, t, 0.0, hits);
+  for (const OverlapHit& hit : hits) {
+    if (hit.body != body) continue;
+    for (int k = 0; k < hit.manifold.pointCount; ++k) {
+      depth = std::max(depth, -hit.manifold.points[k].separation);
+    }
+  }
+  return depth;
+}
+
+}  // namespace
+
+HandShape closeHandOn(const World& w, BodyId body, const HandDef& def, const Transform& palm,
+                      const HandShape& from, const HandShape& to, double squeeze, int steps) {
+  if (steps < 1) throw Error("closeHandOn.steps", "must be at least 1");
+  requireNonNegative(squeeze, "closeHandOn.squeeze");
+  const HandShapes shapes = makeHandShapes(def);
+  std::vector<OverlapHit> hits;
+  HandShape shape = from;
+  for (int f = 0; f < 5; ++f) shape[f].spread = to[f].spread;
+  for (int f = 0; f < 5; ++f) {
+    int moving = 0;  // joints [moving, 3) still close
+    for (int i = 1; i <= steps && moving < 3; ++i) {
+      HandShape next = shape;
+      for (int j = moving; j < 3; ++j) {
+        next[f].flex[j] = from[f].flex[j] + (to[f].flex[j] - from[f].flex[j]) * i / steps;
+      }
+      const HandPose pose = poseHand(def, palm, next);
+      // The most proximal bone of the finger that reached the squeeze depth stops its joints.
+      int stop = -1;
+      for (int seg = moving; seg < 3 && stop < 0; ++seg) {
+        const int b = boneIndex(Finger(f), seg);
+        if (boneDepth(w, body, *shapes.bones[b], pose.bones[b], hits) >= squeeze) stop = seg;
+      }
+      shape = next;
+      if (stop >= 0) moving = stop + 1;  // the joints up to the touching bone stay here
+    }
+  }
+  return shape;
 }
 
 HandPose pinchCube(const HandDef& def, const Vec3& centre, double halfWidth, double depth) {

@@ -3,6 +3,9 @@
 
 #include <cmath>
 #include <cstdio>
+#include <limits>
+#include <string>
+#include <vector>
 
 #include "dynamics/scenes.hpp"
 #include "dynamics/world.hpp"
@@ -103,6 +106,62 @@ TEST(Forces, EachModeHasItsDocumentedEffect) {
   EXPECT_TRUE(w.linearVelocity(accel).isApprox(x * dt, 1e-12));
   EXPECT_TRUE(w.linearVelocity(impulse).isApprox(x / m, 1e-12));
   EXPECT_TRUE(w.linearVelocity(velocity).isApprox(x, 1e-12));
+}
+
+// The batch call is the same as one addForceAtPosition per force, in order, bit for bit, in
+// every mode; bad input throws before anything is applied.
+TEST(Forces, BatchAtPositionsIsOneCallPerForceBitForBit) {
+  std::vector<Vec3> forces, points;
+  for (int i = 0; i < 9; ++i) {
+    forces.emplace_back(0.3 * std::sin(i), -0.7 + 0.1 * i, 0.2 * std::cos(3 * i));
+    points.emplace_back(0.01 * i, 0.05 - 0.013 * i, 0.02 * std::sin(i));
+  }
+  for (ForceMode mode :
+       {ForceMode::Force, ForceMode::Acceleration, ForceMode::Impulse, ForceMode::VelocityChange}) {
+    World a, b;
+    const Quat q(Eigen::AngleAxisd(0.4, Vec3(1, 2, 3).normalized()));
+    BodyId ba, bb;
+    for (auto [w, id] : {std::pair{&a, &ba}, std::pair{&b, &bb}}) {
+      BodyDef d;
+      d.shape = Shape::box(Vec3(0.1, 0.05, 0.02));
+      d.mass = 0.7;
+      d.orientation = q;
+      d.linearVelocity = Vec3(0.1, 0.0, -0.2);
+      *id = w->createBody(d);
+      w->addForce(*id, Vec3(0.5, 0.0, 0.0), mode);  // something accumulated already
+    }
+    for (size_t i = 0; i < forces.size(); ++i) a.addForceAtPosition(ba, forces[i], points[i], mode);
+    b.addForcesAtPositions(bb, forces, points, mode);
+    EXPECT_EQ(a.accumulatedForce(ba), b.accumulatedForce(bb));
+    EXPECT_EQ(a.accumulatedTorque(ba), b.accumulatedTorque(bb));
+    EXPECT_EQ(a.stateHash(), b.stateHash());
+    a.step(0.01);
+    b.step(0.01);
+    EXPECT_EQ(a.stateHash(), b.stateHash());
+  }
+  World w;
+  BodyDef d;
+  d.shape = Shape::sphere(0.1);
+  const BodyId id = w.createBody(d);
+  points.pop_back();
+  try {
+    w.addForcesAtPositions(id, forces, points);
+    FAIL() << "mismatched sizes accepted";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("addForcesAtPositions.worldPoints"), std::string::npos);
+    EXPECT_NE(std::string(e.what()).find("8 points for 9 forces"), std::string::npos) << e.what();
+  }
+  points.emplace_back(0.0, std::nan(""), 0.0);
+  EXPECT_THROW(w.addForcesAtPositions(id, forces, points), Error);
+  forces[0].x() = std::numeric_limits<double>::infinity();
+  points.back().y() = 0.0;
+  try {
+    w.addForcesAtPositions(id, forces, points);
+    FAIL() << "an infinite force accepted";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("addForcesAtPositions.forces"), std::string::npos);
+  }
+  EXPECT_EQ(w.accumulatedForce(id), Vec3::Zero());  // nothing applied
 }
 
 TEST(Rotation, TorqueFreeAsymmetricBodyKeepsAngularMomentum) {
