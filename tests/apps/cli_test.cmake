@@ -36,6 +36,9 @@ expect_error("cannot create the output directory" run grasp_lift --out ${WORK}/a
 expect_error("method" run grasp_lift --method magic)
 expect_error("no such built-in scene" scenes --print nope)
 expect_error("" nosuchcommand)
+expect_error("trials: must be positive \\(got 0\\)" eval placement --trials 0)
+expect_error("trials: must be positive" eval placement --trials -2)
+expect_error("noise: must be between" eval placement --noise 1)
 
 # A good run, twice: exit 0, files written, the same hash.
 foreach(i 1 2)
