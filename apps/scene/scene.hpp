@@ -12,6 +12,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "collision/asset.hpp"
 #include "interaction/interaction.hpp"
 
 namespace grip::scene {
@@ -23,6 +24,7 @@ inline constexpr int kSceneVersion = 1;
 struct BodySpec {
   BodyDef def;
   std::optional<BodyInteractionDef> interaction;  // per-body hand settings
+  std::string asset;  // the runtime asset file of an asset or mesh shape (resolved), else empty
 };
 
 // A bone pressed into a surface (interaction/scenarios.hpp pressBone).
@@ -87,6 +89,7 @@ struct Scene {
   std::vector<HandSpec> hands;
   std::vector<CheckSpec> checks;
   nlohmann::json source;  // the document it was parsed from (after overrides)
+  std::string baseDir;    // relative file paths in the scene are taken from here
   int steps() const;
 };
 
@@ -99,8 +102,23 @@ nlohmann::json readSceneFile(const std::string& path);
 // "KEY=VALUE": KEY is a path such as world.substeps, bodies[1].mass or bodies.1.mass; VALUE is
 // JSON (8, true, [0,1,0], "box") or else taken as a string. Intermediate objects must exist.
 void applyOverride(nlohmann::json& doc, const std::string& keyValue);
-// Validates a document and builds the scene.
+// Validates a document and builds the scene. Relative paths (assets, meshes, tracking files) are
+// taken from `baseDir`: the scene file's folder; for built-in scenes and by default the grip
+// source tree (builtinBaseDir()).
+Scene parseScene(const nlohmann::json& doc, const std::string& baseDir);
 Scene parseScene(const nlohmann::json& doc);
+
+// ---- files a scene refers to (detail/assets.cpp) ------------------------------------------------
+
+std::string builtinBaseDir();
+std::string resolvePath(const std::string& baseDir, const std::string& path);
+bool haveVoxelModule();
+// The asset cache: $GRIP_CACHE_DIR, else $XDG_CACHE_HOME/grip, else ~/.cache/grip.
+std::string assetCacheDir();
+// Prepares a mesh (OFF/OBJ/STL/PLY) into a runtime asset at a level of detail and density, or
+// finds it in the cache (keyed by the mesh's bytes and the options); returns the asset's path.
+// Without the voxel module: throws grip::Error saying so.
+std::string preparedMeshAsset(const std::string& meshPath, const std::string& lod, double density);
 
 // ---- built-in scenes ----------------------------------------------------------------------------
 

@@ -182,11 +182,67 @@ MaterialDef parseMaterial(const json& j, const std::string& path, MaterialDef m)
   return m;
 }
 
-ShapePtr parseShape(const json& j, const std::string& path, bool& isPlane) {
+ShapePtr parsePrimitive(const json& j, const std::string& path, int type);
+
+// A parsed shape; concave ones (asset, mesh) also bring the exact mass properties of their
+// source mesh and the runtime asset file they came from.
+struct ParsedShape {
+  ShapePtr shape;
+  bool isPlane = false;
+  std::optional<MassProperties> exact;
+  std::string asset;
+};
+
+// {"type": "asset", "path": ...} or {"type": "mesh", "path": ..., "lod": ...}: loads the runtime
+// asset (preparing and caching the mesh first), relative paths from the scene file's folder.
+ParsedShape parseConcave(const json& j, const std::string& path, bool mesh,
+                         const std::string& baseDir, double density) {
+  if (mesh) {
+    object(j, path, {"type", "path", "lod"});
+  } else {
+    object(j, path, {"type", "path"});
+  }
+  const std::string pp = key(path, "path");
+  const std::string file = resolvePath(baseDir, string(required(j, path, "path"), pp));
+  ParsedShape out;
+  try {
+    if (mesh) {
+      std::string lod = "high";
+      opt(j, path, "lod", [&](const json& v, const std::string& p) {
+        lod =
+            std::array{"low", "medium", "high",
+                       "very-high"}[choice(v, p, std::array{"low", "medium", "high", "very-high"})];
+      });
+      out.asset = preparedMeshAsset(file, lod, density);
+    } else {
+      std::error_code ec;
+      if (std::filesystem::is_directory(file, ec))
+        throw Error(file, "is a directory, not an asset file");
+      if (!std::filesystem::is_regular_file(file, ec)) throw Error(file, "no such asset file");
+      out.asset = file;
+    }
+    const LoadedAsset a = loadAsset(out.asset);
+    out.shape = a.shape;
+    out.exact = a.mass;
+  } catch (const Error& e) {
+    fail(pp, e.what());
+  }
+  return out;
+}
+
+ParsedShape parseShape(const json& j, const std::string& path, const std::string& baseDir,
+                       double density) {
   if (!j.is_object()) fail(path, "must be an object with a \"type\"");
   const int type = choice(required(j, path, "type"), key(path, "type"),
-                          std::array{"box", "sphere", "capsule", "plane", "hull"});
-  isPlane = type == 3;
+                          std::array{"box", "sphere", "capsule", "plane", "hull", "asset", "mesh"});
+  if (type >= 5) return parseConcave(j, path, type == 6, baseDir, density);
+  ParsedShape out;
+  out.isPlane = type == 3;
+  out.shape = parsePrimitive(j, path, type);
+  return out;
+}
+
+ShapePtr parsePrimitive(const json& j, const std::string& path, int type) {
   switch (type) {
     case 0: {
       object(j, path, {"type", "halfExtents", "rounding"});
@@ -244,7 +300,8 @@ BodyInteractionDef parseBodyInteraction(const json& j, const std::string& path) 
 }
 
 BodySpec parseBody(const json& j, const std::string& path, size_t i,
-                   const std::map<std::string, MaterialDef>& materials) {
+                   const std::map<std::string, MaterialDef>& materials,
+                   const std::string& baseDir) {
   object(j, path,
          {"name", "type", "shape", "position", "orientation", "linearVelocity", "angularVelocity",
           "mass", "density", "material", "gravityScale", "linearDamping", "angularDamping",
@@ -261,9 +318,17 @@ BodySpec parseBody(const json& j, const std::string& path, size_t i,
         std::array{BodyType::Dynamic, BodyType::Static,
                    BodyType::Kinematic}[choice(v, p, std::array{"dynamic", "static", "kinematic"})];
   });
-  bool isPlane = false;
-  d.shape = parseShape(required(j, path, "shape"), key(path, "shape"), isPlane);
-  if (isPlane && d.type != BodyType::Static) fail(key(path, "type"), "a plane must be static");
+  // Density first: a mesh is prepared at the body's density.
+  if (j.contains("mass") && j.contains("density"))
+    fail(key(path, "density"), "give either mass or density, not both");
+  std::optional<double> density;
+  opt(j, path, "density", [&](const json& v, const std::string& p) { density = positive(v, p); });
+  const ParsedShape shape =
+      parseShape(required(j, path, "shape"), key(path, "shape"), baseDir, density.value_or(1000.0));
+  d.shape = shape.shape;
+  b.asset = shape.asset;
+  if (shape.isPlane && d.type != BodyType::Static)
+    fail(key(path, "type"), "a plane must be static");
   opt(j, path, "material", [&](const json& v, const std::string& p) {
     if (v.is_string()) {
       const auto it = materials.find(v.get<std::string>());
@@ -280,11 +345,12 @@ BodySpec parseBody(const json& j, const std::string& path, size_t i,
       [&](const json& v, const std::string& p) { d.linearVelocity = vec3(v, p); });
   opt(j, path, "angularVelocity",
       [&](const json& v, const std::string& p) { d.angularVelocity = vec3(v, p); });
-  if (j.contains("mass") && j.contains("density"))
-    fail(key(path, "density"), "give either mass or density, not both");
   opt(j, path, "mass", [&](const json& v, const std::string& p) { d.mass = positive(v, p); });
-  opt(j, path, "density",
-      [&](const json& v, const std::string& p) { d.material.density = positive(v, p); });
+  if (density) d.material.density = *density;
+  // A concave body weighs what its source mesh weighs (exact), not what its voxel boxes do.
+  if (shape.exact && d.mass == 0.0) {
+    d.mass = density ? shape.exact->volume * *density : shape.exact->mass;
+  }
   opt(j, path, "gravityScale",
       [&](const json& v, const std::string& p) { d.gravityScale = number(v, p); });
   opt(j, path, "linearDamping",
@@ -612,7 +678,12 @@ void applyOverride(json& doc, const std::string& keyValue) {
 }
 
 Scene parseScene(const json& doc) {
+  return parseScene(doc, builtinBaseDir());
+}
+
+Scene parseScene(const json& doc, const std::string& baseDir) {
   Scene s;
+  s.baseDir = baseDir;
   object(doc, "",
          {"grip_scene", "name", "description", "world", "materials", "bodies", "interaction",
           "hands", "duration", "seed", "checks"});
@@ -648,7 +719,7 @@ Scene parseScene(const json& doc) {
   std::set<std::string> names;
   for (size_t i = 0; i < bodies.size(); ++i) {
     const std::string p = index("bodies", i);
-    s.bodies.push_back(parseBody(bodies[i], p, i, materials));
+    s.bodies.push_back(parseBody(bodies[i], p, i, materials, s.baseDir));
     if (!names.insert(s.bodies.back().def.name).second) {
       fail(key(p, "name"), "duplicate body name \"" + s.bodies.back().def.name + "\"");
     }

@@ -200,6 +200,15 @@ json shapeJson(const Shape& s) {
       return {{"type", "capsule"}, {"radius", s.radius()}, {"halfHeight", s.halfHeight()}};
     case ShapeType::Plane:
       return {{"type", "plane"}, {"normal", vecJson(s.planeNormal())}, {"offset", s.planeOffset()}};
+    case ShapeType::Compound: {
+      // Each box as [cx, cy, cz, hx, hy, hz] in the body frame (voxel assets are axis aligned).
+      json boxes = json::array();
+      for (const CompoundChild& c : s.children()) {
+        const Vec3 h = c.shape->halfExtents();
+        boxes.push_back({c.local.p.x(), c.local.p.y(), c.local.p.z(), h.x(), h.y(), h.z()});
+      }
+      return {{"type", "compound"}, {"boxes", boxes}};
+    }
     default:
       return {{"type", "hull"}};
   }
@@ -318,6 +327,7 @@ RunResult run(const Scene& scene, const RunOptions& options) {
                                  : d.type == BodyType::Kinematic ? "kinematic"
                                                                  : "dynamic"},
                         {"shape", shapeJson(*d.shape)}});
+      if (!scene.bodies[i].asset.empty()) bodies.back()["asset"] = scene.bodies[i].asset;
     }
     header["bodies"] = bodies;
     json handsJ = json::array();
