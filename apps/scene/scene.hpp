@@ -61,6 +61,8 @@ struct HandSpec {
   double positionNoise = 0.0;  // palm keyframes only (ScriptedHand)
   double rotationNoise = 0.0;
   std::vector<std::pair<double, double>> trackingLoss;
+  // A hand from a recorded tracking file: frames (time, pose), converted to grip's frame.
+  std::vector<std::pair<double, HandPose>> tracked;
 };
 
 enum class CheckKind : uint8_t { Position, Displacement, Speed, LowestHeight, HandContacts, Angle };
@@ -97,11 +99,17 @@ struct Scene {
 
 // JSON text -> document. Throws grip::Error("<origin>", "invalid JSON: ...").
 nlohmann::json parseJson(const std::string& text, const std::string& origin);
-// Reads a file (throws grip::Error naming the path when it cannot be read or parsed).
+// Reads a JSON file (throws grip::Error naming the path when it cannot be read or parsed; `what`
+// names the kind of file in the message).
+nlohmann::json readJsonFile(const std::string& path, const std::string& what);
 nlohmann::json readSceneFile(const std::string& path);
 // "KEY=VALUE": KEY is a path such as world.substeps, bodies[1].mass or bodies.1.mass; VALUE is
 // JSON (8, true, [0,1,0], "box") or else taken as a string. Intermediate objects must exist.
 void applyOverride(nlohmann::json& doc, const std::string& keyValue);
+// A recorded tracking file's document -> frames (docs/scenes.md, "Tracking files"); errors name
+// the JSON path inside the file.
+std::vector<std::pair<double, HandPose>> parseTracking(const nlohmann::json& doc);
+
 // Validates a document and builds the scene. Relative paths (assets, meshes, tracking files) are
 // taken from `baseDir`: the scene file's folder; for built-in scenes and by default the grip
 // source tree (builtinBaseDir()).

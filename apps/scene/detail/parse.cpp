@@ -465,9 +465,120 @@ KeySpec parseKey(const json& j, const std::string& path) {
   return k;
 }
 
-HandSpec parseHand(const json& j, const std::string& path, size_t i) {
+// ---- recorded tracking files (docs/scenes.md, "Tracking files") ---------------------------------
+
+// [x, y, z, qw, qx, qy, qz]
+Transform jointPose(const json& j, const std::string& path) {
+  if (!j.is_array() || j.size() != 7) fail(path, "must be [x, y, z, qw, qx, qy, qz]");
+  Transform t;
+  t.p = Vec3(number(j[0], index(path, 0)), number(j[1], index(path, 1)),
+             number(j[2], index(path, 2)));
+  Quat q(number(j[3], index(path, 3)), number(j[4], index(path, 4)), number(j[5], index(path, 5)),
+         number(j[6], index(path, 6)));
+  if (q.norm() < 1e-9) fail(path, "has a zero quaternion");
+  t.q = q.normalized();
+  return t;
+}
+
+HandPose openXRFrame(const json& f, const std::string& path) {
+  object(f, path, {"time", "active", "joints"});
+  OpenXRHandFrame x;
+  x.isActive = true;
+  opt(f, path, "active", [&](const json& v, const std::string& p) { x.isActive = boolean(v, p); });
+  if (!x.isActive) return HandPose{};
+  const json& joints = required(f, path, "joints");
+  const std::string jp = key(path, "joints");
+  if (!joints.is_array() || joints.size() != kXrJointCount) {
+    fail(jp,
+         "must be an array of the 26 XR_EXT_hand_tracking joints (palm, wrist, thumb "
+         "metacarpal, ...)");
+  }
+  for (size_t k = 0; k < joints.size(); ++k) {
+    x.joints[k] = jointPose(joints[k], index(jp, k));
+    x.valid[k] = true;
+  }
+  return fromOpenXR(x);
+}
+
+HandPose leapFrame(const json& f, const std::string& path, const LeapConversion& c) {
+  object(f, path, {"time", "tracked", "palm", "digits"});
+  LeapHandFrame l;
+  l.isTracked = true;
+  opt(f, path, "tracked",
+      [&](const json& v, const std::string& p) { l.isTracked = boolean(v, p); });
+  if (!l.isTracked) return HandPose{};
+  const json& palm = required(f, path, "palm");
+  const std::string pp = key(path, "palm");
+  object(palm, pp, {"position", "normal", "direction"});
+  l.palmPosition = vec3(required(palm, pp, "position"), key(pp, "position"));
+  l.palmNormal = direction(required(palm, pp, "normal"), key(pp, "normal"));
+  l.palmDirection = direction(required(palm, pp, "direction"), key(pp, "direction"));
+  const json& digits = required(f, path, "digits");
+  const std::string dp = key(path, "digits");
+  if (!digits.is_array() || digits.size() != 5) fail(dp, "must be 5 digits, thumb to pinky");
+  for (size_t d = 0; d < 5; ++d) {
+    const std::string di = index(dp, d);
+    if (!digits[d].is_array() || digits[d].size() != 4) {
+      fail(di, "must be 4 bones: metacarpal, proximal, intermediate, distal");
+    }
+    for (size_t b = 0; b < 4; ++b) {
+      const std::string bi = index(di, b);
+      if (!digits[d][b].is_array() || digits[d][b].size() != 2) {
+        fail(bi, "must be [prevJoint, nextJoint]");
+      }
+      l.digits[d][b] = {vec3(digits[d][b][0], index(bi, 0)), vec3(digits[d][b][1], index(bi, 1))};
+    }
+  }
+  const HandPose pose = fromLeap(l, c);
+  if (!pose.tracked) fail(pp, "palm normal and direction must not be parallel");
+  return pose;
+}
+
+}  // namespace
+
+std::vector<std::pair<double, HandPose>> parseTracking(const json& doc) {
+  object(doc, "", {"format", "version", "source", "leap", "frames"});
+  if (required(doc, "", "format") != "grip-tracking") {
+    fail("format", "must be \"grip-tracking\" (got " + doc["format"].dump() + ")");
+  }
+  const json& version = required(doc, "", "version");
+  if (version != 1)
+    fail("version", "unsupported version " + version.dump() + " (this grip reads 1)");
+  const bool leap =
+      choice(required(doc, "", "source"), "source", std::array{"openxr", "leap"}) == 1;
+  LeapConversion conv = LeapConversion::desktop();
+  opt(doc, "", "leap", [&](const json& v, const std::string& p) {
+    if (!leap) fail(p, "applies to \"source\": \"leap\" only");
+    object(v, p, {"mount", "leftHanded"});
+    opt(v, p, "mount", [&](const json& m, const std::string& mp) {
+      conv = std::array{
+          LeapConversion::desktop(), LeapConversion::riftDK2(),
+          LeapConversion::holoLens()}[choice(m, mp, std::array{"desktop", "rift-dk2", "hololens"})];
+    });
+    opt(v, p, "leftHanded",
+        [&](const json& b, const std::string& bp) { conv.sourceLeftHanded = boolean(b, bp); });
+  });
+  const json& frames = required(doc, "", "frames");
+  if (!frames.is_array() || frames.empty()) fail("frames", "must be a non-empty array");
+  std::vector<std::pair<double, HandPose>> out;
+  for (size_t i = 0; i < frames.size(); ++i) {
+    const std::string fp = index("frames", i);
+    if (!frames[i].is_object()) fail(fp, "must be an object");
+    const double t = nonNegative(required(frames[i], fp, "time"), key(fp, "time"));
+    if (!out.empty() && !(t > out.back().first)) {
+      fail(key(fp, "time"), "must be later than the frame before");
+    }
+    out.emplace_back(t, leap ? leapFrame(frames[i], fp, conv) : openXRFrame(frames[i], fp));
+  }
+  return out;
+}
+
+namespace {
+
+HandSpec parseHand(const json& j, const std::string& path, size_t i, const std::string& baseDir) {
   object(j, path,
-         {"name", "side", "scale", "keyframes", "positionNoise", "rotationNoise", "trackingLoss"});
+         {"name", "side", "scale", "keyframes", "tracking", "positionNoise", "rotationNoise",
+          "trackingLoss"});
   HandSpec h;
   h.def.name = "hand" + std::to_string(i);
   opt(j, path, "name", [&](const json& v, const std::string& p) {
@@ -493,6 +604,21 @@ HandSpec parseHand(const json& j, const std::string& path, size_t i) {
       h.trackingLoss.emplace_back(a, b);
     }
   });
+  if (j.contains("tracking")) {
+    const std::string tp = key(path, "tracking");
+    if (j.contains("keyframes")) fail(tp, "give either keyframes or tracking, not both");
+    if (h.positionNoise > 0.0 || h.rotationNoise > 0.0)
+      fail(key(path, "positionNoise"), "applies to keyframed hands only");
+    const std::string file = resolvePath(baseDir, string(j["tracking"], tp));
+    try {
+      h.tracked = parseTracking(readJsonFile(file, "tracking file"));
+    } catch (const Error& e) {
+      const std::string what = e.what();
+      // Errors from inside the file: "<file>: <json path>: <what>".
+      fail(tp, what.rfind(file, 0) == 0 ? what : file + ": " + what);
+    }
+    return h;
+  }
   const json& keys = required(j, path, "keyframes");
   const std::string kp = key(path, "keyframes");
   if (!keys.is_array() || keys.empty()) fail(kp, "must be a non-empty array");
@@ -603,16 +729,20 @@ json parseJson(const std::string& text, const std::string& origin) {
   }
 }
 
-json readSceneFile(const std::string& path) {
+json readJsonFile(const std::string& path, const std::string& what) {
   std::error_code ec;
-  if (std::filesystem::is_directory(path, ec))
-    throw Error(path, "is a directory, not a scene file");
+  if (std::filesystem::is_directory(path, ec)) throw Error(path, "is a directory, not a " + what);
+  if (!std::filesystem::exists(path, ec)) throw Error(path, "no such " + what);
   std::ifstream in(path, std::ios::binary);
-  if (!in) throw Error(path, "cannot open scene file");
+  if (!in) throw Error(path, "cannot open " + what);
   std::ostringstream ss;
   ss << in.rdbuf();
-  if (in.bad()) throw Error(path, "cannot read scene file");
+  if (in.bad()) throw Error(path, "cannot read " + what);
   return parseJson(ss.str(), path);
+}
+
+json readSceneFile(const std::string& path) {
+  return readJsonFile(path, "scene file");
 }
 
 void applyOverride(json& doc, const std::string& keyValue) {
@@ -730,7 +860,7 @@ Scene parseScene(const json& doc, const std::string& baseDir) {
     if (!v.is_array()) fail(p, "must be an array");
     std::set<std::string> handNames;
     for (size_t i = 0; i < v.size(); ++i) {
-      s.hands.push_back(parseHand(v[i], index(p, i), i));
+      s.hands.push_back(parseHand(v[i], index(p, i), i, s.baseDir));
       if (!handNames.insert(s.hands.back().def.name).second) {
         fail(key(index(p, i), "name"), "duplicate hand name \"" + s.hands.back().def.name + "\"");
       }

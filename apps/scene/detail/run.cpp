@@ -36,6 +36,7 @@ double seconds(Clock::time_point a, Clock::time_point b) {
 class HandScript {
  public:
   HandScript(const HandSpec& spec, uint64_t seed) : spec_(spec) {
+    if (!spec.tracked.empty()) return;  // a recorded tracking file
     const bool palmOnly = std::all_of(spec.keys.begin(), spec.keys.end(), [](const KeySpec& k) {
       return k.palm && !k.pinch && k.press.empty() && k.tracked;
     });
@@ -55,6 +56,7 @@ class HandScript {
 
   HandPose sample(double t) const {
     if (scripted_) return scripted_->sample(t);
+    if (!spec_.tracked.empty()) return sampleTracked(t);
     const auto& keys = spec_.keys;
     size_t i = 0;
     while (i + 1 < keys.size() && keys[i + 1].time <= t) ++i;
@@ -76,6 +78,26 @@ class HandScript {
   }
 
  private:
+  // A recorded file: bones interpolated between two tracked frames, an untracked frame held
+  // until the next one; before the first and after the last frame, those frames.
+  HandPose sampleTracked(double t) const {
+    const auto& f = spec_.tracked;
+    size_t i = 0;
+    while (i + 1 < f.size() && f[i + 1].first <= t) ++i;
+    HandPose p = f[i].second;
+    if (i + 1 < f.size() && t > f[i].first && p.tracked && f[i + 1].second.tracked) {
+      const double s = (t - f[i].first) / (f[i + 1].first - f[i].first);
+      const HandPose& q = f[i + 1].second;
+      for (int b = 0; b < kBonesPerHand; ++b) {
+        p.bones[b].p = (1.0 - s) * p.bones[b].p + s * q.bones[b].p;
+        p.bones[b].q = p.bones[b].q.slerp(s, q.bones[b].q);
+      }
+    }
+    for (const auto& [a, b] : spec_.trackingLoss)
+      if (t >= a && t <= b) p.tracked = false;
+    return p;
+  }
+
   HandPose keyPose(const KeySpec& k) const {
     const HandDef& d = spec_.def;
     HandPose p;
