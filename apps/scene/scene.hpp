@@ -140,6 +140,14 @@ std::optional<nlohmann::json> builtinScene(const std::string& name);
 
 // ---- running ------------------------------------------------------------------------------------
 
+// Hand poses at increasing times -> the pose at t: each bone interpolated between the keys around
+// t (position linearly, orientation by slerp), held before the first and after the last key. A
+// bone that moves farther than `jump` (m) between two keys (a parked bone being placed) switches
+// at the later key instead of sweeping through the scene; an untracked key is held until the
+// next one.
+using PoseKeys = std::vector<std::pair<double, HandPose>>;
+HandPose samplePoses(const PoseKeys& keys, double t, double jump = 0.5);
+
 struct CheckResult {
   std::string label;
   bool passed = false;

@@ -204,15 +204,14 @@ ParsedShape parseConcave(const json& j, const std::string& path, bool mesh,
   }
   const std::string pp = key(path, "path");
   const std::string file = resolvePath(baseDir, string(required(j, path, "path"), pp));
+  std::string lod = "high";
+  opt(j, path, "lod", [&](const json& v, const std::string& p) {
+    lod = std::array{"low", "medium", "high",
+                     "very-high"}[choice(v, p, std::array{"low", "medium", "high", "very-high"})];
+  });
   ParsedShape out;
   try {
     if (mesh) {
-      std::string lod = "high";
-      opt(j, path, "lod", [&](const json& v, const std::string& p) {
-        lod =
-            std::array{"low", "medium", "high",
-                       "very-high"}[choice(v, p, std::array{"low", "medium", "high", "very-high"})];
-      });
       out.asset = preparedMeshAsset(file, lod, density);
     } else {
       std::error_code ec;

@@ -18,6 +18,7 @@
 #include "interaction/interaction.hpp"
 #include "interaction/scenarios.hpp"
 #include "scene/placement.hpp"
+#include "scene/scene.hpp"
 
 namespace grip::scene {
 
@@ -37,8 +38,8 @@ Vec3 squareCentre(int i, int j) {
   return Vec3((i - 3.5) * kSquare, 0.0, (j - 3.5) * kSquare);
 }
 
-// A keyframed motion: bone poses at times relative to its start.
-using Motion = std::vector<std::pair<double, HandPose>>;
+// A keyframed motion: bone poses at times relative to its start (samplePoses in between).
+using Motion = PoseKeys;
 
 class Trial {
  public:
@@ -64,7 +65,7 @@ class Trial {
   void play(const Motion& m) {
     const double t0 = t_;
     const double end = t0 + m.back().first;
-    while (t_ < end - 0.5 * dt_) frame(sample(m, t_ - t0));
+    while (t_ < end - 0.5 * dt_) frame(samplePoses(m, t_ - t0));
   }
   void wait(double seconds) {
     const double end = t_ + seconds;
@@ -101,24 +102,6 @@ class Trial {
   Vec3 jitter() {
     const double s = def_.noise / std::sqrt(3.0);
     return Vec3(s * gauss_(rng_), s * gauss_(rng_), s * gauss_(rng_));
-  }
-
-  // Bones between keys: linear position, slerp; bones that jump (parked <-> placed) switch at
-  // the later key instead of sweeping through the scene.
-  static HandPose sample(const Motion& m, double t) {
-    size_t i = 0;
-    while (i + 1 < m.size() && m[i + 1].first <= t) ++i;
-    HandPose p = m[i].second;
-    if (i + 1 < m.size()) {
-      const double s = (t - m[i].first) / (m[i + 1].first - m[i].first);
-      const HandPose& q = m[i + 1].second;
-      for (int b = 0; b < kBonesPerHand; ++b) {
-        if ((q.bones[b].p - p.bones[b].p).norm() > 0.5) continue;
-        p.bones[b].p = (1.0 - s) * p.bones[b].p + s * q.bones[b].p;
-        p.bones[b].q = p.bones[b].q.slerp(s, q.bones[b].q);
-      }
-    }
-    return p;
   }
 
   void frame(HandPose pose) {

@@ -23,6 +23,7 @@ using nlohmann::json;
 namespace {
 
 using Clock = std::chrono::steady_clock;
+constexpr double kInfinity = std::numeric_limits<double>::infinity();
 
 double seconds(Clock::time_point a, Clock::time_point b) {
   return std::chrono::duration<double>(b - a).count();
@@ -51,53 +52,20 @@ class HandScript {
       scripted_ = std::make_unique<ScriptedHand>(std::move(d));
       return;
     }
-    for (const KeySpec& k : spec.keys) poses_.push_back(keyPose(k));
+    for (const KeySpec& k : spec.keys) poses_.emplace_back(k.time, keyPose(k));
   }
 
   HandPose sample(double t) const {
     if (scripted_) return scripted_->sample(t);
-    if (!spec_.tracked.empty()) return sampleTracked(t);
-    const auto& keys = spec_.keys;
-    size_t i = 0;
-    while (i + 1 < keys.size() && keys[i + 1].time <= t) ++i;
-    HandPose p = poses_[i];
-    if (i + 1 < keys.size() && t > keys[i].time) {
-      const double s = (t - keys[i].time) / (keys[i + 1].time - keys[i].time);
-      const HandPose& q = poses_[i + 1];
-      for (int b = 0; b < kBonesPerHand; ++b) {
-        // Bones that jump (parked <-> placed) switch at the next key instead of sweeping.
-        if ((q.bones[b].p - p.bones[b].p).norm() > 0.5) continue;
-        p.bones[b].p = (1.0 - s) * p.bones[b].p + s * q.bones[b].p;
-        p.bones[b].q = p.bones[b].q.slerp(s, q.bones[b].q);
-      }
-      p.tracked = keys[i].tracked;
-    }
+    // A recorded file's frames are real positions: never treated as jumps.
+    HandPose p =
+        spec_.tracked.empty() ? samplePoses(poses_, t) : samplePoses(spec_.tracked, t, kInfinity);
     for (const auto& [a, b] : spec_.trackingLoss)
       if (t >= a && t <= b) p.tracked = false;
     return p;
   }
 
  private:
-  // A recorded file: bones interpolated between two tracked frames, an untracked frame held
-  // until the next one; before the first and after the last frame, those frames.
-  HandPose sampleTracked(double t) const {
-    const auto& f = spec_.tracked;
-    size_t i = 0;
-    while (i + 1 < f.size() && f[i + 1].first <= t) ++i;
-    HandPose p = f[i].second;
-    if (i + 1 < f.size() && t > f[i].first && p.tracked && f[i + 1].second.tracked) {
-      const double s = (t - f[i].first) / (f[i + 1].first - f[i].first);
-      const HandPose& q = f[i + 1].second;
-      for (int b = 0; b < kBonesPerHand; ++b) {
-        p.bones[b].p = (1.0 - s) * p.bones[b].p + s * q.bones[b].p;
-        p.bones[b].q = p.bones[b].q.slerp(s, q.bones[b].q);
-      }
-    }
-    for (const auto& [a, b] : spec_.trackingLoss)
-      if (t >= a && t <= b) p.tracked = false;
-    return p;
-  }
-
   HandPose keyPose(const KeySpec& k) const {
     const HandDef& d = spec_.def;
     HandPose p;
@@ -126,7 +94,7 @@ class HandScript {
 
   const HandSpec& spec_;
   std::unique_ptr<ScriptedHand> scripted_;
-  std::vector<HandPose> poses_;
+  PoseKeys poses_;
 };
 
 // ---- recording (JSON Lines, see docs/scenes.md) -----------------------------------------------
@@ -283,6 +251,22 @@ double twistAngle(const Quat& q0, const Quat& q, const Vec3& axis) {
 }
 
 }  // namespace
+
+HandPose samplePoses(const PoseKeys& keys, double t, double jump) {
+  size_t i = 0;
+  while (i + 1 < keys.size() && keys[i + 1].first <= t) ++i;
+  HandPose p = keys[i].second;
+  if (i + 1 < keys.size() && t > keys[i].first && p.tracked && keys[i + 1].second.tracked) {
+    const double s = (t - keys[i].first) / (keys[i + 1].first - keys[i].first);
+    const HandPose& q = keys[i + 1].second;
+    for (int b = 0; b < kBonesPerHand; ++b) {
+      if ((q.bones[b].p - p.bones[b].p).norm() > jump) continue;
+      p.bones[b].p = (1.0 - s) * p.bones[b].p + s * q.bones[b].p;
+      p.bones[b].q = p.bones[b].q.slerp(s, q.bones[b].q);
+    }
+  }
+  return p;
+}
 
 bool RunResult::allPassed() const {
   return std::all_of(checks.begin(), checks.end(), [](const CheckResult& c) { return c.passed; });
