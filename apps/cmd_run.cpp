@@ -22,10 +22,15 @@ struct RunArgs {
   bool quiet = false;
 };
 
-// A file path if one exists there, else the name of a built-in scene.
-nlohmann::json loadDocument(const std::string& what) {
+// A file path if one exists there, else the name of a built-in scene. `baseDir` receives the
+// folder that relative paths in the scene are taken from.
+nlohmann::json loadDocument(const std::string& what, std::string& baseDir) {
   std::error_code ec;
-  if (std::filesystem::exists(what, ec)) return scene::readSceneFile(what);
+  if (std::filesystem::exists(what, ec)) {
+    baseDir = std::filesystem::absolute(what, ec).parent_path().string();
+    return scene::readSceneFile(what);
+  }
+  baseDir = scene::builtinBaseDir();
   if (auto doc = scene::builtinScene(what)) return *doc;
   throw Error(what, "no such scene file or built-in scene (`grip scenes` lists the built-in ones)");
 }
@@ -40,14 +45,15 @@ void progressBar(int step, int steps) {
 }
 
 int runScene(const RunArgs& a) {
-  nlohmann::json doc = loadDocument(a.scene);
+  std::string baseDir;
+  nlohmann::json doc = loadDocument(a.scene, baseDir);
   for (const std::string& s : a.sets) scene::applyOverride(doc, s);
   if (!a.method.empty()) {
     if (!doc.contains("interaction") || !doc["interaction"].is_object())
       doc["interaction"] = nlohmann::json::object();
     doc["interaction"]["method"] = a.method;
   }
-  const scene::Scene sc = scene::parseScene(doc);
+  const scene::Scene sc = scene::parseScene(doc, baseDir);
   scene::RunOptions opt;
   opt.outDir = a.out;
   opt.recordEvery = a.recordEvery;

@@ -12,6 +12,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "collision/asset.hpp"
 #include "interaction/interaction.hpp"
 
 namespace grip::scene {
@@ -23,6 +24,7 @@ inline constexpr int kSceneVersion = 1;
 struct BodySpec {
   BodyDef def;
   std::optional<BodyInteractionDef> interaction;  // per-body hand settings
+  std::string asset;  // the runtime asset file of an asset or mesh shape (resolved), else empty
 };
 
 // A bone pressed into a surface (interaction/scenarios.hpp pressBone).
@@ -59,6 +61,8 @@ struct HandSpec {
   double positionNoise = 0.0;  // palm keyframes only (ScriptedHand)
   double rotationNoise = 0.0;
   std::vector<std::pair<double, double>> trackingLoss;
+  // A hand from a recorded tracking file: frames (time, pose), converted to grip's frame.
+  std::vector<std::pair<double, HandPose>> tracked;
 };
 
 enum class CheckKind : uint8_t { Position, Displacement, Speed, LowestHeight, HandContacts, Angle };
@@ -87,6 +91,7 @@ struct Scene {
   std::vector<HandSpec> hands;
   std::vector<CheckSpec> checks;
   nlohmann::json source;  // the document it was parsed from (after overrides)
+  std::string baseDir;    // relative file paths in the scene are taken from here
   int steps() const;
 };
 
@@ -94,13 +99,34 @@ struct Scene {
 
 // JSON text -> document. Throws grip::Error("<origin>", "invalid JSON: ...").
 nlohmann::json parseJson(const std::string& text, const std::string& origin);
-// Reads a file (throws grip::Error naming the path when it cannot be read or parsed).
+// Reads a JSON file (throws grip::Error naming the path when it cannot be read or parsed; `what`
+// names the kind of file in the message).
+nlohmann::json readJsonFile(const std::string& path, const std::string& what);
 nlohmann::json readSceneFile(const std::string& path);
 // "KEY=VALUE": KEY is a path such as world.substeps, bodies[1].mass or bodies.1.mass; VALUE is
 // JSON (8, true, [0,1,0], "box") or else taken as a string. Intermediate objects must exist.
 void applyOverride(nlohmann::json& doc, const std::string& keyValue);
-// Validates a document and builds the scene.
+// A recorded tracking file's document -> frames (docs/scenes.md, "Tracking files"); errors name
+// the JSON path inside the file.
+std::vector<std::pair<double, HandPose>> parseTracking(const nlohmann::json& doc);
+
+// Validates a document and builds the scene. Relative paths (assets, meshes, tracking files) are
+// taken from `baseDir`: the scene file's folder; for built-in scenes and by default the grip
+// source tree (builtinBaseDir()).
+Scene parseScene(const nlohmann::json& doc, const std::string& baseDir);
 Scene parseScene(const nlohmann::json& doc);
+
+// ---- files a scene refers to (detail/assets.cpp) ------------------------------------------------
+
+std::string builtinBaseDir();
+std::string resolvePath(const std::string& baseDir, const std::string& path);
+bool haveVoxelModule();
+// The asset cache: $GRIP_CACHE_DIR, else $XDG_CACHE_HOME/grip, else ~/.cache/grip.
+std::string assetCacheDir();
+// Prepares a mesh (OFF/OBJ/STL/PLY) into a runtime asset at a level of detail and density, or
+// finds it in the cache (keyed by the mesh's bytes and the options); returns the asset's path.
+// Without the voxel module: throws grip::Error saying so.
+std::string preparedMeshAsset(const std::string& meshPath, const std::string& lod, double density);
 
 // ---- built-in scenes ----------------------------------------------------------------------------
 
@@ -113,6 +139,14 @@ const std::vector<BuiltinScene>& builtinScenes();
 std::optional<nlohmann::json> builtinScene(const std::string& name);
 
 // ---- running ------------------------------------------------------------------------------------
+
+// Hand poses at increasing times -> the pose at t: each bone interpolated between the keys around
+// t (position linearly, orientation by slerp), held before the first and after the last key. A
+// bone that moves farther than `jump` (m) between two keys (a parked bone being placed) switches
+// at the later key instead of sweeping through the scene; an untracked key is held until the
+// next one.
+using PoseKeys = std::vector<std::pair<double, HandPose>>;
+HandPose samplePoses(const PoseKeys& keys, double t, double jump = 0.5);
 
 struct CheckResult {
   std::string label;

@@ -165,7 +165,7 @@ TEST(SceneParse, InvalidJsonTextIsRefused) {
     readSceneFile("/nonexistent/scene.json");
     FAIL();
   } catch (const Error& e) {
-    EXPECT_STREQ(e.what(), "/nonexistent/scene.json: cannot open scene file");
+    EXPECT_STREQ(e.what(), "/nonexistent/scene.json: no such scene file");
   }
   try {
     readSceneFile("/");

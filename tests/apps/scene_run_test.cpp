@@ -29,6 +29,14 @@ TEST_P(BuiltinSceneTest, PassesItsCheck) {
   for (const CheckResult& c : r.checks) EXPECT_TRUE(c.passed) << c.label << ": " << c.detail;
 }
 
+// The bar of issue 5: `grip run` twice gives the same hash, for every built-in scene.
+TEST_P(BuiltinSceneTest, RunsTwiceToTheSameHash) {
+  const Scene s = parseScene(*builtinScene(GetParam()));
+  const uint64_t a = run(s).stateHash;
+  EXPECT_EQ(run(parseScene(*builtinScene(GetParam()))).stateHash, a);
+  EXPECT_NE(a, 0u);
+}
+
 std::vector<std::string> builtinNames() {
   std::vector<std::string> names;
   for (const BuiltinScene& b : builtinScenes()) names.push_back(b.name);

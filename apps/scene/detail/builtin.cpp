@@ -181,12 +181,14 @@ json bodiesOf(const World& w, const std::vector<BodyId>& ids,
   return out;
 }
 
-json jenga() {
-  json s = base("jenga",
-                "A slim fingertip pushes the middle block of the third layer of a 6-layer Jenga "
-                "tower 4.5 cm out; the rest of the tower stands (thesis 4: pull blocks out of a "
-                "Jenga tower).",
-                3.5);
+// The 6-layer tower of scenarios::addTower on a floor; block 7 (the middle block of the third
+// layer, along x) is "target". The bodies are read back from a scratch World.
+struct JengaSetup {
+  json bodies;
+  Vec3 target;
+  Vec3 half;  // of an x-running block
+};
+JengaSetup jengaTower() {
   World scratch;
   const scenarios::Tower tower = scenarios::addTower(scratch, 6);
   std::vector<std::string> names;
@@ -194,42 +196,103 @@ json jenga() {
     names.push_back(i == 7 ? "target"
                            : "block" + std::to_string(i / 3) + "_" + std::to_string(i % 3));
   }
-  json bodies = json::array({floorBody()});
-  for (json& b : bodiesOf(scratch, tower.blocks, names)) bodies.push_back(b);
-  s["bodies"] = bodies;
-  // The tip of a 0.7-scale index finger (11 mm thick, for the 15 mm slot), pointing -x into the
-  // end face of the target block.
+  JengaSetup j{json::array({floorBody()}), scratch.pose(tower.blocks[7]).p, tower.blockHalfExtents};
+  for (json& b : bodiesOf(scratch, tower.blocks, names)) j.bodies.push_back(b);
+  return j;
+}
+
+// The tip of a 0.7-scale index finger (11 mm thick, for the 15 mm slot), pointing -x into the
+// +x end face of the target block: pushes it `travel` out toward -x at 3 cm/s from t = 1.333 s,
+// then withdraws at `retract`.
+json slimPushHand(const JengaSetup& j, double travel, double retract) {
   HandDef hd;
   hd.scale = 0.7;
   const double r = hd.scale * hd.fingers[1].radius[2];
   const double axisHalf = 0.5 * hd.scale * hd.fingers[1].length[2] - 0.5 * r;
-  const Vec3 target = scratch.pose(tower.blocks[7]).p;
-  const Vec3 face(tower.blockHalfExtents.x() + axisHalf, target.y(), target.z()), n(1, 0, 0),
-      axis(-1, 0, 0);
+  const Vec3 face(j.half.x() + axisHalf, j.target.y(), j.target.z()), n(1, 0, 0), axis(-1, 0, 0);
   auto tip = [&](double t, double depth) {
     return pressKey(t, {press("index_distal", face, n, axis, depth)});
   };
-  const double travel = 0.045, speed = 0.03;
-  s["hands"] = {{{"name", "right"},
-                 {"scale", hd.scale},
-                 {"keyframes",
-                  {{{"time", 0.0}, {"park", v3(0, 10, 0)}},
-                   tip(1.0, -0.002),
-                   tip(1.333, 0.002),
-                   tip(1.333 + travel / speed, 0.002 + travel),
-                   tip(3.0, -0.03)}}}};
+  const double speed = 0.03;
+  return {{"name", "right"},
+          {"scale", hd.scale},
+          {"keyframes",
+           {{{"time", 0.0}, {"park", v3(0, 10, 0)}},
+            tip(1.0, -0.002),
+            tip(1.333, 0.002),
+            tip(1.333 + travel / speed, 0.002 + travel),
+            tip(retract, -0.03)}}};
+}
+
+json tallStands() {
+  return {{"label", "every other block stayed within 5 mm"},
+          {"kind", "displacement"},
+          {"bodies", "*"},
+          {"except", {"target"}},
+          {"max", 0.005},
+          {"since", 0.9}};
+}
+
+json jenga() {
+  json s = base("jenga",
+                "A slim fingertip pushes the middle block of the third layer of a 6-layer Jenga "
+                "tower 4.5 cm out; the rest of the tower stands (thesis 4: pull blocks out of a "
+                "Jenga tower).",
+                3.5);
+  const JengaSetup j = jengaTower();
+  s["bodies"] = j.bodies;
+  s["hands"] = {slimPushHand(j, 0.045, 3.0)};
   s["checks"] = {{{"label", "the target block came 3.5 cm out"},
                   {"kind", "displacement"},
                   {"body", "target"},
                   {"axis", v3(-1, 0, 0)},
                   {"min", 0.035},
                   {"since", 0.9}},
-                 {{"label", "every other block stayed within 5 mm"},
-                  {"kind", "displacement"},
-                  {"bodies", "*"},
-                  {"except", {"target"}},
-                  {"max", 0.005},
-                  {"since", 0.9}}};
+                 tallStands()};
+  return s;
+}
+
+// Two hands: the right fingertip pushes the target 3 cm out of the -x side (its centre of mass
+// stays over the tower), then the left thumb and index pinch its protruding end on the z faces
+// and pull it out the rest of the way.
+json jengaTwoHands() {
+  json s = base("jenga_two_hands",
+                "Two hands take a block out of a 6-layer Jenga tower: the right index fingertip "
+                "pushes the middle block of the third layer 3 cm out, the left thumb and index "
+                "pinch its protruding end and pull it clear; the rest of the tower stands (thesis "
+                "4: pull blocks out of a Jenga tower with two hands).",
+                5.0);
+  const JengaSetup j = jengaTower();
+  s["bodies"] = j.bodies;
+  const double out = 0.03;
+  // The protruding end after the push spans x from -half - out to -half; the fingertips (upright,
+  // so that they stay clear of the neighbours' end faces) pinch it 1.2 cm from its tip.
+  const double x0 = -j.half.x() - out + 0.012, pull = 0.06, hz = j.half.z(), depth = 0.005;
+  const Vec3 z(0, 0, 1), y(0, 1, 0);
+  auto pinchAt = [&](double t, double dx, double d) {
+    const Vec3 c(x0 - dx, j.target.y(), j.target.z());
+    return pressKey(t, {press("thumb_distal", c - hz * z, -z, y, d),
+                        press("index_distal", c + hz * z, z, y, d)});
+  };
+  json left = {{"name", "left"},
+               {"side", "left"},
+               {"keyframes",
+                {{{"time", 0.0}, {"park", v3(-0.5, 10, 0)}},
+                 pinchAt(2.4, 0.0, -0.004),
+                 pinchAt(2.7, 0.0, depth),
+                 pinchAt(3.0, 0.0, depth),
+                 pinchAt(4.5, pull, depth),
+                 pinchAt(5.0, pull, depth)}}};
+  s["hands"] = {slimPushHand(j, out, 2.9), left};
+  s["checks"] = {
+      {{"label", "the target block is out of the tower (moved 8 cm)"},
+       {"kind", "displacement"},
+       {"body", "target"},
+       {"axis", v3(-1, 0, 0)},
+       {"min", 0.08},
+       {"since", 0.9}},
+      {{"label", "the left hand holds it"}, {"kind", "handContacts"}, {"hand", "left"}, {"min", 2}},
+      tallStands()};
   return s;
 }
 
@@ -450,6 +513,139 @@ json flatLift() {
   return s;
 }
 
+// The committed axe (assets/concave/axe_high.grip, voxel/detail/procedural.cpp axe()): a 36 cm
+// handle of 2.8 x 2.3 cm along +y from its origin, the head from y = 0.235 to 0.355 with its
+// blade toward +x (x up to 0.1).
+json axeTower() {
+  json s = base("axe_tower",
+                "A hand holds an axe (a concave voxel asset) by its handle and swings it sideways "
+                "into a tower of four cubes standing on a pedestal: the blade knocks the upper "
+                "three off (thesis 4: grasp an axe and knock down a tower of cubes).",
+                2.5);
+  const double y0 = 0.02;  // the axe's origin (handle end) above the floor
+  json axe = {{"name", "axe"},
+              {"shape", {{"type", "asset"}, {"path", "assets/concave/axe_high.grip"}}},
+              {"position", v3(0, y0, 0)},
+              {"mass", 0.2},
+              // A firm grip: at the default 400 N/m (and at 1000) the blow of the blade on the
+              // cubes makes the fingertips slip off the handle.
+              {"interaction", {{"gamma", 2500}}}};
+  json pedestal = {{"name", "pedestal"},
+                   {"type", "static"},
+                   {"shape", {{"type", "box"}, {"halfExtents", v3(0.03, 0.1, 0.03)}}},
+                   {"position", v3(0.3, 0.1, 0)}};
+  json bodies = json::array({floorBody(), pedestal, axe});
+  for (int i = 0; i < 4; ++i) {
+    const std::string name = "cube" + std::to_string(i);
+    bodies.push_back(boxBody(name.c_str(), 0.02, 0.02, 0.02, 0.05, Vec3(0.3, 0.22 + 0.04 * i, 0)));
+  }
+  s["bodies"] = bodies;
+  // Thumb on the -z face, index and middle fingertips on the +z face of the handle, at two
+  // heights near the centre of mass, so that the grip resists the head's torque.
+  const double hz = 0.0115, depth = 0.004, ya = y0 + 0.12, yb = y0 + 0.19;
+  const Vec3 z(0, 0, 1), x(1, 0, 0);
+  auto at = [&](double t, double dx) {
+    return pressKey(t, {press("thumb_distal", Vec3(dx, ya, -hz), -z, x, depth),
+                        press("index_distal", Vec3(dx, ya, hz), z, x, depth),
+                        press("thumb_proximal", Vec3(dx, yb, -hz), -z, x, depth),
+                        press("middle_distal", Vec3(dx, yb, hz), z, x, depth)});
+  };
+  // Hold still, then swing 24 cm toward the tower in 1 s (the blade goes 4 cm past the
+  // cubes' centres; the handle stays clear of the pedestal), and hold.
+  json keys = json::array({at(0.0, 0.0), at(0.5, 0.0)});
+  for (int i = 1; i <= 8; ++i) {
+    const double u = i / 8.0;
+    keys.push_back(at(0.5 + 1.0 * u, 0.24 * u * u * (3.0 - 2.0 * u)));
+  }
+  keys.push_back(at(2.5, 0.24));
+  s["hands"] = {{{"name", "right"}, {"keyframes", keys}}};
+  s["checks"] = {{{"label", "the upper three cubes were knocked off the pedestal"},
+                  {"kind", "position"},
+                  {"bodies", {"cube1", "cube2", "cube3"}},
+                  {"max", {nullptr, 0.18, nullptr}}},
+                 {{"label", "the bottom cube (below the blade) is still on the pedestal"},
+                  {"kind", "position"},
+                  {"body", "cube0"},
+                  {"min", {nullptr, 0.2, nullptr}}},
+                 {{"label", "the hand still holds the axe"},
+                  {"kind", "handContacts"},
+                  {"hand", "right"},
+                  {"min", 3}},
+                 {{"label", "the axe went with the hand"},
+                  {"kind", "displacement"},
+                  {"body", "axe"},
+                  {"axis", v3(1, 0, 0)},
+                  {"min", 0.22},
+                  {"max", 0.26}},
+                 {{"label", "the axe was not dropped"},
+                  {"kind", "lowestHeight"},
+                  {"body", "axe"},
+                  {"min", 0.18}}};
+  return s;
+}
+
+// A block falling from a tower is caught in flight the way people do it: the hand moves with the
+// falling block, the thumb and index close on it, and the hand then brakes to a stop (thesis 4:
+// catch a block from a falling tower). The block leaves the top of the tower (50 cm) at 0.3 m/s
+// sideways; the tower itself is not simulated. The hand's path is the block's free flight, so
+// the fingers close with little relative motion; a flat hand held still under a tumbling block
+// lets it slide off (the palm's contacts do not stop a tumbling impact today).
+json catchBlock() {
+  json s = base("catch_block",
+                "A block falling from the top of a 50 cm tower (leaving it at 0.3 m/s sideways) "
+                "is caught in flight: the hand moves with it, thumb and index close on it, and the "
+                "hand brakes to a stop (thesis 4: catch a block from a falling tower).",
+                2.0);
+  s["world"]["hz"] = 120;
+  const double h = 0.025, mass = 0.05, depth = 5.0 * holdDepth(mass);
+  const Vec3 p0(0.05, 0.5, 0), v0(0.3, 0, 0), g(0, -kG, 0);
+  json block = boxBody("block", h, h, h, mass, p0);
+  block["linearVelocity"] = v3(v0.x(), v0.y(), v0.z());
+  s["bodies"] = json::array({floorBody(), block});
+  // Where the block's centre would be in free flight, then braking at constant deceleration.
+  const double tClose = 0.04, tGrip = 0.12, tBrake = 0.5;
+  const Vec3 pg = p0 + v0 * tGrip + 0.5 * g * tGrip * tGrip, vg = v0 + g * tGrip;
+  auto centre = [&](double t) {
+    if (t <= tGrip) return Vec3(p0 + v0 * t + 0.5 * g * t * t);
+    const double u = std::min(t - tGrip, tBrake);
+    return Vec3(pg + vg * (u - 0.5 * u * u / tBrake));
+  };
+  const Vec3 z(0, 0, 1), x(1, 0, 0);
+  json keys = json::array();
+  auto at = [&](double t, double d) {
+    const Vec3 c = centre(t);
+    keys.push_back(pressKey(t, {press("thumb_distal", c - h * z, -z, x, d),
+                                press("index_distal", c + h * z, z, x, d)}));
+  };
+  for (int i = 0; i <= 25; ++i) {
+    const double t = 0.02 * i;
+    at(t, t <= tClose  ? -0.01
+          : t >= tGrip ? depth
+                       : -0.01 + (depth + 0.01) * (t - tClose) / (tGrip - tClose));
+  }
+  at(1.5, depth);
+  const Vec3 end = centre(1.5);
+  s["hands"] = {{{"name", "right"}, {"keyframes", keys}}};
+  s["checks"] = {{{"label", "the block never reached the floor"},
+                  {"kind", "lowestHeight"},
+                  {"body", "block"},
+                  {"min", end.y() - 0.02}},
+                 {{"label", "it stopped with the hand"},
+                  {"kind", "position"},
+                  {"body", "block"},
+                  {"min", {end.x() - 0.02, end.y() - 0.02, -0.01}},
+                  {"max", {end.x() + 0.02, end.y() + 0.02, 0.01}}},
+                 {{"label", "thumb and index hold it"},
+                  {"kind", "handContacts"},
+                  {"hand", "right"},
+                  {"min", 2}},
+                 {{"label", "it is at rest in the grasp"},
+                  {"kind", "speed"},
+                  {"body", "block"},
+                  {"max", 0.02}}};
+  return s;
+}
+
 }  // namespace
 
 // A plank balanced on the palms of two hands, lifted 15 cm together while the hands tilt it by
@@ -516,6 +712,10 @@ const std::vector<BuiltinScene>& builtinScenes() {
        [] { return pushFigurine(false); }},
       {"carry_turn", "carry a pinched cube 20 cm and turn it 45 degrees", carryTurn},
       {"balance_two_hands", "lift and tilt a plank balanced on two palms", balanceTwoHands},
+      {"axe_tower", "swing a held axe (concave asset) into a tower of cubes", axeTower},
+      {"catch_block", "catch a block knocked off a tower on a flat hand", catchBlock},
+      {"jenga_two_hands", "push a Jenga block out with one hand, pull it clear with the other",
+       jengaTwoHands},
   };
   return scenes;
 }

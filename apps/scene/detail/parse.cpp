@@ -182,11 +182,66 @@ MaterialDef parseMaterial(const json& j, const std::string& path, MaterialDef m)
   return m;
 }
 
-ShapePtr parseShape(const json& j, const std::string& path, bool& isPlane) {
+ShapePtr parsePrimitive(const json& j, const std::string& path, int type);
+
+// A parsed shape; concave ones (asset, mesh) also bring the exact mass properties of their
+// source mesh and the runtime asset file they came from.
+struct ParsedShape {
+  ShapePtr shape;
+  bool isPlane = false;
+  std::optional<MassProperties> exact;
+  std::string asset;
+};
+
+// {"type": "asset", "path": ...} or {"type": "mesh", "path": ..., "lod": ...}: loads the runtime
+// asset (preparing and caching the mesh first), relative paths from the scene file's folder.
+ParsedShape parseConcave(const json& j, const std::string& path, bool mesh,
+                         const std::string& baseDir, double density) {
+  if (mesh) {
+    object(j, path, {"type", "path", "lod"});
+  } else {
+    object(j, path, {"type", "path"});
+  }
+  const std::string pp = key(path, "path");
+  const std::string file = resolvePath(baseDir, string(required(j, path, "path"), pp));
+  std::string lod = "high";
+  opt(j, path, "lod", [&](const json& v, const std::string& p) {
+    lod = std::array{"low", "medium", "high",
+                     "very-high"}[choice(v, p, std::array{"low", "medium", "high", "very-high"})];
+  });
+  ParsedShape out;
+  try {
+    if (mesh) {
+      out.asset = preparedMeshAsset(file, lod, density);
+    } else {
+      std::error_code ec;
+      if (std::filesystem::is_directory(file, ec))
+        throw Error(file, "is a directory, not an asset file");
+      if (!std::filesystem::is_regular_file(file, ec)) throw Error(file, "no such asset file");
+      out.asset = file;
+    }
+    const LoadedAsset a = loadAsset(out.asset);
+    out.shape = a.shape;
+    out.exact = a.mass;
+  } catch (const Error& e) {
+    fail(pp, e.what());
+  }
+  return out;
+}
+
+ParsedShape parseShape(const json& j, const std::string& path, const std::string& baseDir,
+                       double density) {
   if (!j.is_object()) fail(path, "must be an object with a \"type\"");
   const int type = choice(required(j, path, "type"), key(path, "type"),
-                          std::array{"box", "sphere", "capsule", "plane", "hull"});
-  isPlane = type == 3;
+                          std::array{"box", "sphere", "capsule", "plane", "hull", "asset", "mesh"});
+  if (type >= 5) return parseConcave(j, path, type == 6, baseDir, density);
+  ParsedShape out;
+  out.isPlane = type == 3;
+  out.shape = parsePrimitive(j, path, type);
+  return out;
+}
+
+ShapePtr parsePrimitive(const json& j, const std::string& path, int type) {
   switch (type) {
     case 0: {
       object(j, path, {"type", "halfExtents", "rounding"});
@@ -244,7 +299,8 @@ BodyInteractionDef parseBodyInteraction(const json& j, const std::string& path) 
 }
 
 BodySpec parseBody(const json& j, const std::string& path, size_t i,
-                   const std::map<std::string, MaterialDef>& materials) {
+                   const std::map<std::string, MaterialDef>& materials,
+                   const std::string& baseDir) {
   object(j, path,
          {"name", "type", "shape", "position", "orientation", "linearVelocity", "angularVelocity",
           "mass", "density", "material", "gravityScale", "linearDamping", "angularDamping",
@@ -261,9 +317,17 @@ BodySpec parseBody(const json& j, const std::string& path, size_t i,
         std::array{BodyType::Dynamic, BodyType::Static,
                    BodyType::Kinematic}[choice(v, p, std::array{"dynamic", "static", "kinematic"})];
   });
-  bool isPlane = false;
-  d.shape = parseShape(required(j, path, "shape"), key(path, "shape"), isPlane);
-  if (isPlane && d.type != BodyType::Static) fail(key(path, "type"), "a plane must be static");
+  // Density first: a mesh is prepared at the body's density.
+  if (j.contains("mass") && j.contains("density"))
+    fail(key(path, "density"), "give either mass or density, not both");
+  std::optional<double> density;
+  opt(j, path, "density", [&](const json& v, const std::string& p) { density = positive(v, p); });
+  const ParsedShape shape =
+      parseShape(required(j, path, "shape"), key(path, "shape"), baseDir, density.value_or(1000.0));
+  d.shape = shape.shape;
+  b.asset = shape.asset;
+  if (shape.isPlane && d.type != BodyType::Static)
+    fail(key(path, "type"), "a plane must be static");
   opt(j, path, "material", [&](const json& v, const std::string& p) {
     if (v.is_string()) {
       const auto it = materials.find(v.get<std::string>());
@@ -280,11 +344,12 @@ BodySpec parseBody(const json& j, const std::string& path, size_t i,
       [&](const json& v, const std::string& p) { d.linearVelocity = vec3(v, p); });
   opt(j, path, "angularVelocity",
       [&](const json& v, const std::string& p) { d.angularVelocity = vec3(v, p); });
-  if (j.contains("mass") && j.contains("density"))
-    fail(key(path, "density"), "give either mass or density, not both");
   opt(j, path, "mass", [&](const json& v, const std::string& p) { d.mass = positive(v, p); });
-  opt(j, path, "density",
-      [&](const json& v, const std::string& p) { d.material.density = positive(v, p); });
+  if (density) d.material.density = *density;
+  // A concave body weighs what its source mesh weighs (exact), not what its voxel boxes do.
+  if (shape.exact && d.mass == 0.0) {
+    d.mass = density ? shape.exact->volume * *density : shape.exact->mass;
+  }
   opt(j, path, "gravityScale",
       [&](const json& v, const std::string& p) { d.gravityScale = number(v, p); });
   opt(j, path, "linearDamping",
@@ -399,9 +464,120 @@ KeySpec parseKey(const json& j, const std::string& path) {
   return k;
 }
 
-HandSpec parseHand(const json& j, const std::string& path, size_t i) {
+// ---- recorded tracking files (docs/scenes.md, "Tracking files") ---------------------------------
+
+// [x, y, z, qw, qx, qy, qz]
+Transform jointPose(const json& j, const std::string& path) {
+  if (!j.is_array() || j.size() != 7) fail(path, "must be [x, y, z, qw, qx, qy, qz]");
+  Transform t;
+  t.p = Vec3(number(j[0], index(path, 0)), number(j[1], index(path, 1)),
+             number(j[2], index(path, 2)));
+  Quat q(number(j[3], index(path, 3)), number(j[4], index(path, 4)), number(j[5], index(path, 5)),
+         number(j[6], index(path, 6)));
+  if (q.norm() < 1e-9) fail(path, "has a zero quaternion");
+  t.q = q.normalized();
+  return t;
+}
+
+HandPose openXRFrame(const json& f, const std::string& path) {
+  object(f, path, {"time", "active", "joints"});
+  OpenXRHandFrame x;
+  x.isActive = true;
+  opt(f, path, "active", [&](const json& v, const std::string& p) { x.isActive = boolean(v, p); });
+  if (!x.isActive) return HandPose{};
+  const json& joints = required(f, path, "joints");
+  const std::string jp = key(path, "joints");
+  if (!joints.is_array() || joints.size() != kXrJointCount) {
+    fail(jp,
+         "must be an array of the 26 XR_EXT_hand_tracking joints (palm, wrist, thumb "
+         "metacarpal, ...)");
+  }
+  for (size_t k = 0; k < joints.size(); ++k) {
+    x.joints[k] = jointPose(joints[k], index(jp, k));
+    x.valid[k] = true;
+  }
+  return fromOpenXR(x);
+}
+
+HandPose leapFrame(const json& f, const std::string& path, const LeapConversion& c) {
+  object(f, path, {"time", "tracked", "palm", "digits"});
+  LeapHandFrame l;
+  l.isTracked = true;
+  opt(f, path, "tracked",
+      [&](const json& v, const std::string& p) { l.isTracked = boolean(v, p); });
+  if (!l.isTracked) return HandPose{};
+  const json& palm = required(f, path, "palm");
+  const std::string pp = key(path, "palm");
+  object(palm, pp, {"position", "normal", "direction"});
+  l.palmPosition = vec3(required(palm, pp, "position"), key(pp, "position"));
+  l.palmNormal = direction(required(palm, pp, "normal"), key(pp, "normal"));
+  l.palmDirection = direction(required(palm, pp, "direction"), key(pp, "direction"));
+  const json& digits = required(f, path, "digits");
+  const std::string dp = key(path, "digits");
+  if (!digits.is_array() || digits.size() != 5) fail(dp, "must be 5 digits, thumb to pinky");
+  for (size_t d = 0; d < 5; ++d) {
+    const std::string di = index(dp, d);
+    if (!digits[d].is_array() || digits[d].size() != 4) {
+      fail(di, "must be 4 bones: metacarpal, proximal, intermediate, distal");
+    }
+    for (size_t b = 0; b < 4; ++b) {
+      const std::string bi = index(di, b);
+      if (!digits[d][b].is_array() || digits[d][b].size() != 2) {
+        fail(bi, "must be [prevJoint, nextJoint]");
+      }
+      l.digits[d][b] = {vec3(digits[d][b][0], index(bi, 0)), vec3(digits[d][b][1], index(bi, 1))};
+    }
+  }
+  const HandPose pose = fromLeap(l, c);
+  if (!pose.tracked) fail(pp, "palm normal and direction must not be parallel");
+  return pose;
+}
+
+}  // namespace
+
+std::vector<std::pair<double, HandPose>> parseTracking(const json& doc) {
+  object(doc, "", {"format", "version", "source", "leap", "frames"});
+  if (required(doc, "", "format") != "grip-tracking") {
+    fail("format", "must be \"grip-tracking\" (got " + doc["format"].dump() + ")");
+  }
+  const json& version = required(doc, "", "version");
+  if (version != 1)
+    fail("version", "unsupported version " + version.dump() + " (this grip reads 1)");
+  const bool leap =
+      choice(required(doc, "", "source"), "source", std::array{"openxr", "leap"}) == 1;
+  LeapConversion conv = LeapConversion::desktop();
+  opt(doc, "", "leap", [&](const json& v, const std::string& p) {
+    if (!leap) fail(p, "applies to \"source\": \"leap\" only");
+    object(v, p, {"mount", "leftHanded"});
+    opt(v, p, "mount", [&](const json& m, const std::string& mp) {
+      conv = std::array{
+          LeapConversion::desktop(), LeapConversion::riftDK2(),
+          LeapConversion::holoLens()}[choice(m, mp, std::array{"desktop", "rift-dk2", "hololens"})];
+    });
+    opt(v, p, "leftHanded",
+        [&](const json& b, const std::string& bp) { conv.sourceLeftHanded = boolean(b, bp); });
+  });
+  const json& frames = required(doc, "", "frames");
+  if (!frames.is_array() || frames.empty()) fail("frames", "must be a non-empty array");
+  std::vector<std::pair<double, HandPose>> out;
+  for (size_t i = 0; i < frames.size(); ++i) {
+    const std::string fp = index("frames", i);
+    if (!frames[i].is_object()) fail(fp, "must be an object");
+    const double t = nonNegative(required(frames[i], fp, "time"), key(fp, "time"));
+    if (!out.empty() && !(t > out.back().first)) {
+      fail(key(fp, "time"), "must be later than the frame before");
+    }
+    out.emplace_back(t, leap ? leapFrame(frames[i], fp, conv) : openXRFrame(frames[i], fp));
+  }
+  return out;
+}
+
+namespace {
+
+HandSpec parseHand(const json& j, const std::string& path, size_t i, const std::string& baseDir) {
   object(j, path,
-         {"name", "side", "scale", "keyframes", "positionNoise", "rotationNoise", "trackingLoss"});
+         {"name", "side", "scale", "keyframes", "tracking", "positionNoise", "rotationNoise",
+          "trackingLoss"});
   HandSpec h;
   h.def.name = "hand" + std::to_string(i);
   opt(j, path, "name", [&](const json& v, const std::string& p) {
@@ -427,6 +603,21 @@ HandSpec parseHand(const json& j, const std::string& path, size_t i) {
       h.trackingLoss.emplace_back(a, b);
     }
   });
+  if (j.contains("tracking")) {
+    const std::string tp = key(path, "tracking");
+    if (j.contains("keyframes")) fail(tp, "give either keyframes or tracking, not both");
+    if (h.positionNoise > 0.0 || h.rotationNoise > 0.0)
+      fail(key(path, "positionNoise"), "applies to keyframed hands only");
+    const std::string file = resolvePath(baseDir, string(j["tracking"], tp));
+    try {
+      h.tracked = parseTracking(readJsonFile(file, "tracking file"));
+    } catch (const Error& e) {
+      const std::string what = e.what();
+      // Errors from inside the file: "<file>: <json path>: <what>".
+      fail(tp, what.rfind(file, 0) == 0 ? what : file + ": " + what);
+    }
+    return h;
+  }
   const json& keys = required(j, path, "keyframes");
   const std::string kp = key(path, "keyframes");
   if (!keys.is_array() || keys.empty()) fail(kp, "must be a non-empty array");
@@ -537,16 +728,20 @@ json parseJson(const std::string& text, const std::string& origin) {
   }
 }
 
-json readSceneFile(const std::string& path) {
+json readJsonFile(const std::string& path, const std::string& what) {
   std::error_code ec;
-  if (std::filesystem::is_directory(path, ec))
-    throw Error(path, "is a directory, not a scene file");
+  if (std::filesystem::is_directory(path, ec)) throw Error(path, "is a directory, not a " + what);
+  if (!std::filesystem::exists(path, ec)) throw Error(path, "no such " + what);
   std::ifstream in(path, std::ios::binary);
-  if (!in) throw Error(path, "cannot open scene file");
+  if (!in) throw Error(path, "cannot open " + what);
   std::ostringstream ss;
   ss << in.rdbuf();
-  if (in.bad()) throw Error(path, "cannot read scene file");
+  if (in.bad()) throw Error(path, "cannot read " + what);
   return parseJson(ss.str(), path);
+}
+
+json readSceneFile(const std::string& path) {
+  return readJsonFile(path, "scene file");
 }
 
 void applyOverride(json& doc, const std::string& keyValue) {
@@ -612,7 +807,12 @@ void applyOverride(json& doc, const std::string& keyValue) {
 }
 
 Scene parseScene(const json& doc) {
+  return parseScene(doc, builtinBaseDir());
+}
+
+Scene parseScene(const json& doc, const std::string& baseDir) {
   Scene s;
+  s.baseDir = baseDir;
   object(doc, "",
          {"grip_scene", "name", "description", "world", "materials", "bodies", "interaction",
           "hands", "duration", "seed", "checks"});
@@ -648,7 +848,7 @@ Scene parseScene(const json& doc) {
   std::set<std::string> names;
   for (size_t i = 0; i < bodies.size(); ++i) {
     const std::string p = index("bodies", i);
-    s.bodies.push_back(parseBody(bodies[i], p, i, materials));
+    s.bodies.push_back(parseBody(bodies[i], p, i, materials, s.baseDir));
     if (!names.insert(s.bodies.back().def.name).second) {
       fail(key(p, "name"), "duplicate body name \"" + s.bodies.back().def.name + "\"");
     }
@@ -659,7 +859,7 @@ Scene parseScene(const json& doc) {
     if (!v.is_array()) fail(p, "must be an array");
     std::set<std::string> handNames;
     for (size_t i = 0; i < v.size(); ++i) {
-      s.hands.push_back(parseHand(v[i], index(p, i), i));
+      s.hands.push_back(parseHand(v[i], index(p, i), i, s.baseDir));
       if (!handNames.insert(s.hands.back().def.name).second) {
         fail(key(index(p, i), "name"), "duplicate hand name \"" + s.hands.back().def.name + "\"");
       }

@@ -23,6 +23,7 @@ using nlohmann::json;
 namespace {
 
 using Clock = std::chrono::steady_clock;
+constexpr double kInfinity = std::numeric_limits<double>::infinity();
 
 double seconds(Clock::time_point a, Clock::time_point b) {
   return std::chrono::duration<double>(b - a).count();
@@ -36,6 +37,7 @@ double seconds(Clock::time_point a, Clock::time_point b) {
 class HandScript {
  public:
   HandScript(const HandSpec& spec, uint64_t seed) : spec_(spec) {
+    if (!spec.tracked.empty()) return;  // a recorded tracking file
     const bool palmOnly = std::all_of(spec.keys.begin(), spec.keys.end(), [](const KeySpec& k) {
       return k.palm && !k.pinch && k.press.empty() && k.tracked;
     });
@@ -50,26 +52,14 @@ class HandScript {
       scripted_ = std::make_unique<ScriptedHand>(std::move(d));
       return;
     }
-    for (const KeySpec& k : spec.keys) poses_.push_back(keyPose(k));
+    for (const KeySpec& k : spec.keys) poses_.emplace_back(k.time, keyPose(k));
   }
 
   HandPose sample(double t) const {
     if (scripted_) return scripted_->sample(t);
-    const auto& keys = spec_.keys;
-    size_t i = 0;
-    while (i + 1 < keys.size() && keys[i + 1].time <= t) ++i;
-    HandPose p = poses_[i];
-    if (i + 1 < keys.size() && t > keys[i].time) {
-      const double s = (t - keys[i].time) / (keys[i + 1].time - keys[i].time);
-      const HandPose& q = poses_[i + 1];
-      for (int b = 0; b < kBonesPerHand; ++b) {
-        // Bones that jump (parked <-> placed) switch at the next key instead of sweeping.
-        if ((q.bones[b].p - p.bones[b].p).norm() > 0.5) continue;
-        p.bones[b].p = (1.0 - s) * p.bones[b].p + s * q.bones[b].p;
-        p.bones[b].q = p.bones[b].q.slerp(s, q.bones[b].q);
-      }
-      p.tracked = keys[i].tracked;
-    }
+    // A recorded file's frames are real positions: never treated as jumps.
+    HandPose p =
+        spec_.tracked.empty() ? samplePoses(poses_, t) : samplePoses(spec_.tracked, t, kInfinity);
     for (const auto& [a, b] : spec_.trackingLoss)
       if (t >= a && t <= b) p.tracked = false;
     return p;
@@ -104,7 +94,7 @@ class HandScript {
 
   const HandSpec& spec_;
   std::unique_ptr<ScriptedHand> scripted_;
-  std::vector<HandPose> poses_;
+  PoseKeys poses_;
 };
 
 // ---- recording (JSON Lines, see docs/scenes.md) -----------------------------------------------
@@ -200,6 +190,15 @@ json shapeJson(const Shape& s) {
       return {{"type", "capsule"}, {"radius", s.radius()}, {"halfHeight", s.halfHeight()}};
     case ShapeType::Plane:
       return {{"type", "plane"}, {"normal", vecJson(s.planeNormal())}, {"offset", s.planeOffset()}};
+    case ShapeType::Compound: {
+      // Each box as [cx, cy, cz, hx, hy, hz] in the body frame (voxel assets are axis aligned).
+      json boxes = json::array();
+      for (const CompoundChild& c : s.children()) {
+        const Vec3 h = c.shape->halfExtents();
+        boxes.push_back({c.local.p.x(), c.local.p.y(), c.local.p.z(), h.x(), h.y(), h.z()});
+      }
+      return {{"type", "compound"}, {"boxes", boxes}};
+    }
     default:
       return {{"type", "hull"}};
   }
@@ -252,6 +251,22 @@ double twistAngle(const Quat& q0, const Quat& q, const Vec3& axis) {
 }
 
 }  // namespace
+
+HandPose samplePoses(const PoseKeys& keys, double t, double jump) {
+  size_t i = 0;
+  while (i + 1 < keys.size() && keys[i + 1].first <= t) ++i;
+  HandPose p = keys[i].second;
+  if (i + 1 < keys.size() && t > keys[i].first && p.tracked && keys[i + 1].second.tracked) {
+    const double s = (t - keys[i].first) / (keys[i + 1].first - keys[i].first);
+    const HandPose& q = keys[i + 1].second;
+    for (int b = 0; b < kBonesPerHand; ++b) {
+      if ((q.bones[b].p - p.bones[b].p).norm() > jump) continue;
+      p.bones[b].p = (1.0 - s) * p.bones[b].p + s * q.bones[b].p;
+      p.bones[b].q = p.bones[b].q.slerp(s, q.bones[b].q);
+    }
+  }
+  return p;
+}
 
 bool RunResult::allPassed() const {
   return std::all_of(checks.begin(), checks.end(), [](const CheckResult& c) { return c.passed; });
@@ -318,6 +333,7 @@ RunResult run(const Scene& scene, const RunOptions& options) {
                                  : d.type == BodyType::Kinematic ? "kinematic"
                                                                  : "dynamic"},
                         {"shape", shapeJson(*d.shape)}});
+      if (!scene.bodies[i].asset.empty()) bodies.back()["asset"] = scene.bodies[i].asset;
     }
     header["bodies"] = bodies;
     json handsJ = json::array();
