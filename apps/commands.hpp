@@ -14,6 +14,7 @@ struct Command {
 Command addDemoCommand(CLI::App& app);
 Command addRunCommand(CLI::App& app);
 Command addScenesCommand(CLI::App& app);
+Command addViewCommand(CLI::App& app);
 #ifdef GRIP_HAVE_VOXEL
 Command addPrepCommand(CLI::App& app);
 #endif
