@@ -2,7 +2,7 @@
 // drop), plays it with a timeline, and shows charts and a small panel. State for tests and
 // scripts: window.gripViewer.
 import { parseStream, parseText, RecordingError } from './recording.js';
-import { SceneView } from './scene3d.js';
+import { SceneView, ID_COLORS } from './scene3d.js';
 import { Charts } from './charts.js';
 
 const $ = (id) => document.getElementById(id);
@@ -229,6 +229,7 @@ window.gripViewer = {
   seek: (f) => viewer.seek(f),
   setSpeed: (s) => viewer.setSpeed(s),
   setIdMode: (on) => viewer.view.setIdMode(on),
+  idColors: ID_COLORS,
   openUrl: (u) => viewer.openUrl(u),
   openText: (t, n) => viewer.openText(t, n || 'text'),
 };

@@ -33,7 +33,9 @@ function shapeObject(s, material, extent) {
       m.position.copy(n.multiplyScalar(s.offset));
       const g = new THREE.Group();
       g.add(m);
-      const grid = new THREE.GridHelper(extent, 48, 0xa0a8b0, 0xd0d6dc);
+      // Grid squares of a power of ten: 10 cm for a hand-sized scene.
+      const step = Math.pow(10, Math.ceil(Math.log10(extent / 40)));
+      const grid = new THREE.GridHelper(extent, Math.round(extent / step), 0xa0a8b0, 0xd0d6dc);
       grid.quaternion.setFromUnitVectors(new THREE.Vector3(0, 1, 0), new THREE.Vector3(...s.normal).normalize());
       grid.position.copy(m.position).addScaledVector(new THREE.Vector3(...s.normal).normalize(), 1e-4);
       grid.userData.decoration = true;
@@ -80,6 +82,31 @@ function shapeObject(s, material, extent) {
   m.userData.unknownShape = true;
   return m;
 }
+
+// A solid arrow (shaft and head) of unit geometry, placed and stretched per frame.
+class Arrow extends THREE.Group {
+  constructor(color, thickness) {
+    super();
+    const mat = new THREE.MeshBasicMaterial({ color });
+    this.shaft = new THREE.Mesh(new THREE.CylinderGeometry(1, 1, 1, 10), mat);
+    this.head = new THREE.Mesh(new THREE.ConeGeometry(1, 1, 14), mat);
+    this.add(this.shaft, this.head);
+    this.thickness = thickness;
+    this.visible = false;
+  }
+  // From `from` along unit `dir`, `len` long.
+  place(from, dir, len) {
+    const r = Math.min(this.thickness, len * 0.12);
+    const head = Math.min(len * 0.35, r * 5);
+    this.position.copy(from);
+    this.quaternion.setFromUnitVectors(UP, dir);
+    this.shaft.scale.set(r, len - head, r);
+    this.shaft.position.set(0, (len - head) / 2, 0);
+    this.head.scale.set(2.2 * r, head, 2.2 * r);
+    this.head.position.set(0, len - head / 2, 0);
+  }
+}
+const UP = new THREE.Vector3(0, 1, 0);
 
 function setPose(obj, a, o) {
   obj.position.set(a[o], a[o + 1], a[o + 2]);
@@ -157,16 +184,14 @@ export class SceneView {
     scene.add(this.dots);
     this.forceArrows = [];
     for (let i = 0; i < nc; ++i) {
-      const a = new THREE.ArrowHelper(new THREE.Vector3(0, 1, 0), new THREE.Vector3(), 1, FORCE_COLOR);
-      a.visible = false;
+      const a = new Arrow(FORCE_COLOR, radius * 0.012);
       scene.add(a);
       this.forceArrows.push(a);
     }
     // Longest force arrow: about the scene's radius.
     this.forceScale = rec.maxForce > 0 ? radius / rec.maxForce : 1;
     this.motionArrows = rec.header.hands.map(() => {
-      const a = new THREE.ArrowHelper(new THREE.Vector3(0, 1, 0), new THREE.Vector3(), 1, MOTION_COLOR);
-      a.visible = false;
+      const a = new Arrow(MOTION_COLOR, radius * 0.02);
       scene.add(a);
       return a;
     });
@@ -242,9 +267,7 @@ export class SceneView {
       if (arrow.visible) {
         // The force on the body, drawn from outside with its tip at the contact point.
         const dir = new THREE.Vector3(v[6], v[7], v[8]).normalize();
-        arrow.position.set(v[0], v[1], v[2]).addScaledVector(dir, -len);
-        arrow.setDirection(dir);
-        arrow.setLength(len, Math.min(len * 0.3, radius * 0.12), Math.min(len * 0.15, radius * 0.06));
+        arrow.place(new THREE.Vector3(v[0], v[1], v[2]).addScaledVector(dir, -len), dir, len);
       }
     }
     for (let i = b - a; i < this.forceArrows.length; ++i) this.forceArrows[i].visible = false;
@@ -259,9 +282,8 @@ export class SceneView {
       const len = speed * 0.5;
       arrow.visible = !this.idMode && rec.handHasCenter[i] === 1 && len > radius * 0.02;
       if (arrow.visible) {
-        arrow.position.set(...rec.handCenter.subarray(3 * i, 3 * i + 3));
-        arrow.setDirection(new THREE.Vector3(v[0], v[1], v[2]).normalize());
-        arrow.setLength(len, Math.min(len * 0.3, radius * 0.15), Math.min(len * 0.2, radius * 0.08));
+        const from = new THREE.Vector3(...rec.handCenter.subarray(3 * i, 3 * i + 3));
+        arrow.place(from, new THREE.Vector3(v[0], v[1], v[2]).normalize(), len);
       }
     }
     this.render();
