@@ -342,9 +342,9 @@ std::string frameSvg(const json& header, const json& frame) {
   for (const json& c : contacts) maxForce = std::max(maxForce, vec(c["force"]).norm());
   for (const json& c : contacts) {
     const Vec3 p = vec(c["point"]), f = vec(c["force"]);
-    // The force on the body, its tip at the contact point; the largest is the scene's radius.
+    // The force on the body, its tip at the contact point; the largest is 60 % of the scene radius.
     if (maxForce > 0.0 && f.norm() > 1e-3 * maxForce) {
-      const Vec3 tail = p - f * (radius / maxForce);
+      const Vec3 tail = p - f * (0.6 * radius / maxForce);
       still.overlay("<line " + still.line(tail, p) +
                     " stroke=\"#e02020\" stroke-width=\"1.2\" marker-end=\"url(#arrow)\"/>");
       still.include(tail);

@@ -204,6 +204,7 @@ class Viewer {
       ...s,
       scene: rec.header.scene,
       frames: rec.frames,
+      keyFrame: rec.keyFrame,
       index: f,
       frame: rec.frameNo[f],
       t: rec.t[f],

@@ -251,15 +251,22 @@ export class Recording {
     this.slips = new Uint16Array(n);
     this.maxContacts = 0;
     this.maxForce = 0;
+    // The key frame: the largest total force of pressing contacts (as the report's still).
+    this.keyFrame = n - 1;
+    let keyForce = 0;
     for (let f = 0; f < n; ++f) {
       const a = this.contactStart[f], b = this.contactStart[f + 1];
       this.maxContacts = Math.max(this.maxContacts, b - a);
+      let total = 0;
       for (let c = a; c < b; ++c) {
         if (this.cState[c] !== 0) this.pressing[f]++;
         if (this.cState[c] === 2) this.slips[f]++;
         const F = this.cVec.subarray(9 * c + 6, 9 * c + 9);
-        this.maxForce = Math.max(this.maxForce, Math.hypot(F[0], F[1], F[2]));
+        const mag = Math.hypot(F[0], F[1], F[2]);
+        this.maxForce = Math.max(this.maxForce, mag);
+        if (this.cState[c] !== 0) total += mag;
       }
+      if (total > keyForce) (keyForce = total), (this.keyFrame = f);
     }
     this.bodySpeed = new Float32Array(n * this.nb);
     for (let f = 0; f < n; ++f) {

@@ -85,9 +85,11 @@ function shapeObject(s, material, extent) {
 
 // A solid arrow (shaft and head) of unit geometry, placed and stretched per frame.
 class Arrow extends THREE.Group {
-  constructor(color, thickness) {
+  constructor(color, thickness, onTop = false) {
     super();
-    const mat = new THREE.MeshBasicMaterial({ color });
+    // onTop: drawn over everything (the hand motion starts inside the hand).
+    const mat = new THREE.MeshBasicMaterial({ color, depthTest: !onTop });
+    this.renderOrder = onTop ? 10 : 0;
     this.shaft = new THREE.Mesh(new THREE.CylinderGeometry(1, 1, 1, 10), mat);
     this.head = new THREE.Mesh(new THREE.ConeGeometry(1, 1, 14), mat);
     this.add(this.shaft, this.head);
@@ -97,12 +99,12 @@ class Arrow extends THREE.Group {
   // From `from` along unit `dir`, `len` long.
   place(from, dir, len) {
     const r = Math.min(this.thickness, len * 0.12);
-    const head = Math.min(len * 0.35, r * 5);
+    const head = Math.min(len * 0.4, r * 8);
     this.position.copy(from);
     this.quaternion.setFromUnitVectors(UP, dir);
     this.shaft.scale.set(r, len - head, r);
     this.shaft.position.set(0, (len - head) / 2, 0);
-    this.head.scale.set(2.2 * r, head, 2.2 * r);
+    this.head.scale.set(2.5 * r, head, 2.5 * r);
     this.head.position.set(0, len - head / 2, 0);
   }
 }
@@ -177,21 +179,23 @@ export class SceneView {
 
     // Contact points and force arrows: pools as large as the busiest frame.
     const nc = Math.max(1, rec.maxContacts);
-    const dotR = Math.max(0.002, radius * 0.03);
-    this.dots = new THREE.InstancedMesh(new THREE.SphereGeometry(dotR, 12, 8), new THREE.MeshBasicMaterial(), nc);
+    // Drawn over everything: a contact sits under the fingertip that makes it.
+    const dotR = Math.max(0.002, radius * 0.04);
+    this.dots = new THREE.InstancedMesh(new THREE.SphereGeometry(dotR, 12, 8), new THREE.MeshBasicMaterial({ depthTest: false }), nc);
     this.dots.frustumCulled = false;
+    this.dots.renderOrder = 11;
     for (let i = 0; i < nc; ++i) this.dots.setColorAt(i, new THREE.Color(STATE_COLORS[1]));
     scene.add(this.dots);
     this.forceArrows = [];
     for (let i = 0; i < nc; ++i) {
-      const a = new Arrow(FORCE_COLOR, radius * 0.012);
+      const a = new Arrow(FORCE_COLOR, radius * 0.015);
       scene.add(a);
       this.forceArrows.push(a);
     }
-    // Longest force arrow: about the scene's radius.
-    this.forceScale = rec.maxForce > 0 ? radius / rec.maxForce : 1;
+    // The longest force arrow: 60 % of the scene's radius.
+    this.forceScale = rec.maxForce > 0 ? (0.6 * radius) / rec.maxForce : 1;
     this.motionArrows = rec.header.hands.map(() => {
-      const a = new Arrow(MOTION_COLOR, radius * 0.02);
+      const a = new Arrow(MOTION_COLOR, radius * 0.02, true);
       scene.add(a);
       return a;
     });

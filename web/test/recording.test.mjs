@@ -32,6 +32,7 @@ test('reads frames into typed arrays and derives speeds, forces and hand motion'
   assert.equal(r.slips[0], 1);
   assert.equal(r.pressing[1], 0);
   assert.equal(r.maxForce, 5);
+  assert.equal(r.keyFrame, 0); // the frame with the contact
   assert.equal(r.contactKeys[0].label, 'right palm / lego');
   assert.ok(Math.abs(r.bodySpeed[1 * 2 + 1] - 2) < 1e-6); // 1 m in 0.5 s
   assert.ok(Math.abs(r.handVel[3] - 2) < 1e-6); // the palm moves 1 m in 0.5 s along x
