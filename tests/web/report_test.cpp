@@ -201,6 +201,28 @@ TEST(Report, StillDrawsEveryBodyAndContact) {
   EXPECT_EQ(count("fill=\"#2ca02c\""), 1);                // stick is green
 }
 
+TEST(Report, StillDrawsCompoundsChildByChild) {
+  const json box = {{"type", "box"}, {"halfExtents", {0.05, 0.05, 0.05}}};
+  const json header = {
+      {"bodies",
+       {{{"type", "dynamic"},
+         {"shape",
+          {{"type", "compound"},
+           {"children",
+            {{{"position", {0, 0, 0}}, {"orientation", {1, 0, 0, 0}}, {"shape", box}},
+             {{"position", {0.3, 0, 0}}, {"orientation", {1, 0, 0, 0}}, {"shape", box}}}}}}}}},
+      {"hands", json::array()}};
+  const json frame = {{"frame", 1},
+                      {"bodies", {{0, 0.05, 0, 1, 0, 0, 0}}},
+                      {"hands", json::array()},
+                      {"contacts", json::array()}};
+  const std::string svg = frameSvg(header, frame);
+  size_t n = 0;
+  for (size_t at = svg.find("<polygon"); at != std::string::npos; at = svg.find("<polygon", at + 1))
+    ++n;
+  EXPECT_EQ(n, 6u);  // three faces in view of each of the two boxes
+}
+
 TEST(Report, HeadersCarryHullAndCompoundGeometry) {
   const ShapePtr hull = Shape::convexHull({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}});
   const json h = scene::shapeJson(*hull);

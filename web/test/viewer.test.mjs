@@ -138,6 +138,25 @@ test('a screenshot shows every body of the recording', async () => {
   const stats = await pixelStats(page, await page.locator('#view').screenshot(), palette);
   const seen = stats.hits.filter((n) => n > 200).length;
   assert.equal(seen, shapes.bodies.length, `pixels per body colour: ${stats.hits.slice(0, 8)}`);
+
+  // A voxel-style compound of boxes (an L of three), added to the same recording.
+  const lego = {
+    name: 'lego', type: 'dynamic',
+    shape: { type: 'compound', children: [[0, 0, 0], [0.06, 0, 0], [0, 0.06, 0]].map((p) => ({
+      position: p, orientation: [1, 0, 0, 0], shape: { type: 'box', halfExtents: [0.03, 0.03, 0.03], rounding: 0 } })) },
+  };
+  const lines = readFileSync(join(dir, 'shapes', 'recording.jsonl'), 'utf8').trim().split('\n').map((l) => JSON.parse(l));
+  lines[0].bodies.push(lego);
+  for (const f of lines.slice(1, -1)) f.bodies.push([0.4, 0.03, 0, 1, 0, 0, 0]);
+  writeFileSync(join(dir, 'compound.jsonl'), lines.map((l) => JSON.stringify(l)).join('\n') + '\n');
+  await page.evaluate(() => window.gripViewer.setIdMode(false));
+  await page.setInputFiles('#file', join(dir, 'compound.jsonl'));
+  const c = await waitLoaded(page, 2);
+  assert.equal(c.error, null);
+  assert.equal(c.shown.bodies, shapes.bodies.length + 1);
+  await page.evaluate(() => window.gripViewer.setIdMode(true));
+  const withLego = await pixelStats(page, await page.locator('#view').screenshot(), palette);
+  assert.equal(withLego.hits.filter((n) => n > 200).length, shapes.bodies.length + 1, `${withLego.hits.slice(0, 8)}`);
   assert.deepEqual(errors, []);
   await page.close();
 });
