@@ -18,7 +18,12 @@ void onSignal(int) {
   stopRequested = 1;
 }
 
-int runView(const std::string& path, int port) {
+int runView(std::string path, int port) {
+  // A run's output directory stands for the recording in it.
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec) &&
+      std::filesystem::exists(std::filesystem::path(path) / "recording.jsonl", ec))
+    path = (std::filesystem::path(path) / "recording.jsonl").string();
   web::checkRecording(path);
   web::Server server(port);
   std::signal(SIGINT, onSignal);
@@ -47,7 +52,9 @@ Command addViewCommand(CLI::App& app) {
       app.add_subcommand("view", "open a recording in the web viewer (served on 127.0.0.1)");
   auto file = std::make_shared<std::string>();
   auto port = std::make_shared<int>(8000);
-  sub->add_option("recording", *file, "a recording.jsonl written by `grip run --out`")->required();
+  sub->add_option("recording", *file,
+                  "a recording.jsonl written by `grip run --out` (or that directory)")
+      ->required();
   sub->add_option("--port", *port, "port on 127.0.0.1 (0: any free port)")
       ->check(CLI::Range(0, 65535));
   return {sub, [=] { return runView(*file, *port); }};

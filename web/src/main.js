@@ -40,6 +40,10 @@ class Viewer {
       this.pause();
       this.seek(Number(e.target.value));
     });
+    for (const box of document.querySelectorAll('#layers input')) {
+      box.addEventListener('change', () => this.view.setLayer(box.dataset.layer, box.checked));
+    }
+    $('home').addEventListener('click', () => this.view.home());
     $('file').addEventListener('change', (e) => {
       const f = e.target.files && e.target.files[0];
       if (f) this.openFile(f);

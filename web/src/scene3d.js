@@ -127,6 +127,7 @@ export class SceneView {
     this.controls.addEventListener('change', () => this.render());
     this.scene = null;
     this.idMode = false;
+    this.layers = { tracked: true, visual: true, contacts: true, forces: true, motion: true };
     new ResizeObserver(() => this.resize()).observe(container);
     this.resize();
   }
@@ -200,6 +201,14 @@ export class SceneView {
       return a;
     });
 
+    this.home();
+    this.setIdMode(this.idMode);
+  }
+
+  // The starting camera: from the front right, above, the bodies in view.
+  home() {
+    if (!this.rec) return;
+    const { center, radius } = this.rec.bounds;
     this.controls.target.set(...center);
     const d = Math.max(0.3, radius * 3.2);
     this.camera.position.set(center[0] + 0.55 * d, center[1] + 0.45 * d, center[2] + 0.7 * d);
@@ -207,7 +216,13 @@ export class SceneView {
     this.camera.far = d * 200;
     this.camera.updateProjectionMatrix();
     this.controls.update();
-    this.setIdMode(this.idMode);
+    this.render();
+  }
+
+  // Shows or hides one kind of overlay: tracked, visual, contacts, forces, motion.
+  setLayer(name, on) {
+    this.layers[name] = on;
+    this.showFrame(this.frame || 0);
   }
 
   dispose() {
@@ -253,13 +268,13 @@ export class SceneView {
         // Bones parked far from the scene (pinch/press scripts) are not drawn.
         const p = hand.tracked[k].position;
         const parked = Math.hypot(p.x - center[0], p.y - center[1], p.z - center[2]) > near;
-        hand.tracked[k].visible = !this.idMode && !parked;
-        hand.visual[k].visible = !this.idMode && !parked && tracked && inContact[h];
+        hand.tracked[k].visible = !this.idMode && this.layers.tracked && !parked;
+        hand.visual[k].visible = !this.idMode && this.layers.visual && !parked && tracked && inContact[h];
       }
     }
     const m = new THREE.Matrix4();
     const color = new THREE.Color();
-    this.dots.count = this.idMode ? 0 : b - a;
+    this.dots.count = this.idMode || !this.layers.contacts ? 0 : b - a;
     for (let c = a; c < b; ++c) {
       const v = rec.cVec.subarray(9 * c, 9 * c + 9);
       m.makeTranslation(v[0], v[1], v[2]);
@@ -267,7 +282,7 @@ export class SceneView {
       this.dots.setColorAt(c - a, color.setHex(STATE_COLORS[rec.cState[c]]));
       const arrow = this.forceArrows[c - a];
       const len = Math.hypot(v[6], v[7], v[8]) * this.forceScale;
-      arrow.visible = !this.idMode && len > 1e-5;
+      arrow.visible = !this.idMode && this.layers.forces && len > 1e-5;
       if (arrow.visible) {
         // The force on the body, drawn from outside with its tip at the contact point.
         const dir = new THREE.Vector3(v[6], v[7], v[8]).normalize();
@@ -284,7 +299,7 @@ export class SceneView {
       const speed = Math.hypot(v[0], v[1], v[2]);
       // The arrow shows 0.5 s of the current hand motion.
       const len = speed * 0.5;
-      arrow.visible = !this.idMode && rec.handHasCenter[i] === 1 && len > radius * 0.02;
+      arrow.visible = !this.idMode && this.layers.motion && rec.handHasCenter[i] === 1 && len > radius * 0.02;
       if (arrow.visible) {
         const from = new THREE.Vector3(...rec.handCenter.subarray(3 * i, 3 * i + 3));
         arrow.place(from, new THREE.Vector3(v[0], v[1], v[2]).normalize(), len);

@@ -1,7 +1,7 @@
 // Debian's chromium driven by playwright-core (never a downloaded browser). Headless, with the
 // background networking off (this machine has no network) and a fresh profile each time.
 import { createRequire } from 'node:module';
-import { mkdtempSync, rmSync } from 'node:fs';
+import { existsSync, mkdtempSync, rmSync } from 'node:fs';
 import { tmpdir } from 'node:os';
 import { join, resolve, dirname } from 'node:path';
 import { fileURLToPath } from 'node:url';
@@ -13,6 +13,7 @@ const { chromium } = createRequire(join(modules, 'noop.js'))('playwright-core');
 export const CHROMIUM = process.env.GRIP_CHROMIUM || '/usr/bin/chromium';
 
 export async function launch() {
+  if (!existsSync(CHROMIUM)) throw new Error(`${CHROMIUM} not found: bash scripts/setup.sh installs Debian's chromium`);
   const profile = mkdtempSync(join(tmpdir(), 'grip-chromium-'));
   // A persistent context is how playwright takes a --user-data-dir: a new empty one each time.
   const browser = await chromium.launchPersistentContext(profile, {

@@ -47,6 +47,10 @@ test('grip view serves the page and the recording, GET only', async () => {
   assert.equal(await file.text(), readFileSync(recPath, 'utf8'));
   assert.equal((await fetch(`${view.base}/nope`)).status, 404);
   assert.equal((await fetch(`${view.base}/`, { method: 'POST', body: 'x' })).status, 405);
+  // The run's directory stands for its recording.
+  const byDir = await startView(join(dir, 'gl'));
+  assert.equal(await (await fetch(`${byDir.base}/recording.jsonl`)).text(), readFileSync(recPath, 'utf8'));
+  byDir.proc.kill('SIGTERM');
 });
 
 test('grip view refuses a file that is not a complete recording', () => {
@@ -111,8 +115,18 @@ test('loads, plays, seeks and shows the frame asked for', async () => {
   await page.waitForTimeout(300);
   assert.equal((await page.evaluate(() => window.gripViewer.state())).index, paused.index);
 
-  // A screenshot mid-grasp: not blank.
+  // The layer switches hide and show the overlays.
   await page.evaluate(() => window.gripViewer.seek(60));
+  const before = (await page.evaluate(() => window.gripViewer.state())).shown;
+  assert.ok(before.forceArrows === 2 && before.contactDots === 2 && before.visualBones > 0, JSON.stringify(before));
+  for (const layer of ['forces', 'contacts', 'visual']) await page.uncheck(`[data-layer=${layer}]`);
+  const hidden = (await page.evaluate(() => window.gripViewer.state())).shown;
+  assert.deepEqual([hidden.forceArrows, hidden.contactDots, hidden.visualBones], [0, 0, 0]);
+  assert.equal(hidden.trackedBones, before.trackedBones);
+  for (const layer of ['forces', 'contacts', 'visual']) await page.check(`[data-layer=${layer}]`);
+  assert.deepEqual((await page.evaluate(() => window.gripViewer.state())).shown, before);
+
+  // A screenshot mid-grasp: not blank.
   const shot = await page.locator('#view').screenshot();
   const stats = await pixelStats(page, shot, []);
   assert.ok(stats.colours > 500, `only ${stats.colours} colours`);
