@@ -96,8 +96,9 @@ double contactForce(const json& frame) {
 
 // ---- the SVG still ------------------------------------------------------------------------
 
-const char* const kBodyColors[] = {"#4e79a7", "#f28e2b", "#59a14f", "#b07aa1",
-                                   "#edc948", "#76b7b2", "#ff9da7", "#9c755f"};
+// As the viewer's: clear of the contact states (green, orange, grey) and the arrows (red).
+const char* const kBodyColors[] = {"#4e79a7", "#8e6bb8", "#3f9e9a", "#9c755f",
+                                   "#5a6d8c", "#c267a3", "#6b8e23", "#7a5c99"};
 const char* stateColor(const std::string& s) {
   return s == "stick" ? "#2ca02c" : s == "slip" ? "#ff7f0e" : "#9e9e9e";
 }

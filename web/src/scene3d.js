@@ -3,7 +3,8 @@
 import * as THREE from 'three';
 import { OrbitControls } from 'three/examples/jsm/controls/OrbitControls.js';
 
-const BODY_COLORS = [0x4e79a7, 0xf28e2b, 0x59a14f, 0xb07aa1, 0xedc948, 0x76b7b2, 0xff9da7, 0x9c755f];
+// Body colours keep clear of the contact states (green, orange, grey) and the arrows (red, yellow).
+const BODY_COLORS = [0x4e79a7, 0x8e6bb8, 0x3f9e9a, 0x9c755f, 0x5a6d8c, 0xc267a3, 0x6b8e23, 0x7a5c99];
 // Flat, far-apart colours of the "ids" mode: a test counts bodies in a screenshot by them.
 export const ID_COLORS = [
   0xff0000, 0x00ff00, 0x0000ff, 0xffff00, 0xff00ff, 0x00ffff, 0x800000, 0x008000, 0x000080, 0x808000,
