@@ -412,9 +412,8 @@ std::string reportHtml(const std::string& path, const json& metrics, const Repor
     }
     const double force = contactForce(j);
     if (force > bestForce) bestForce = force, best = j;
-    roundNumbers(j["bodies"], scale);
-    roundNumbers(j["hands"], scale);
-    roundNumbers(j["contacts"], scale);
+    for (const char* k : {"bodies", "hands", "contacts"})
+      if (j.contains(k)) roundNumbers(j[k], scale);
     lastLine = j.dump();
     lastKept = st.framesIn % st.keepEvery == 0;
     if (lastKept) frames += lastLine + "\n", ++st.framesKept;

@@ -1,5 +1,5 @@
 // The 3D view: meshes built once from the recording's header, then moved per frame from the
-// typed arrays (no geometry is made after loading).
+// typed arrays (no geometry is made after loading). Lambert shading: cheap in software GL too.
 import * as THREE from 'three';
 import { OrbitControls } from 'three/examples/jsm/controls/OrbitControls.js';
 
@@ -160,7 +160,7 @@ export class SceneView {
 
     this.bodies = rec.header.bodies.map((b, i) => {
       const color = b.type === 'static' ? 0xe4e8ec : BODY_COLORS[i % BODY_COLORS.length];
-      const normal = new THREE.MeshStandardMaterial({ color, roughness: 0.7, metalness: 0.0, side: THREE.DoubleSide });
+      const normal = new THREE.MeshLambertMaterial({ color, side: THREE.DoubleSide });
       const id = new THREE.MeshBasicMaterial({ color: ID_COLORS[i % ID_COLORS.length], side: THREE.DoubleSide });
       const obj = shapeObject(b.shape, normal, extent);
       obj.userData = { normal, id, plane: b.shape.type === 'plane' };
@@ -168,8 +168,8 @@ export class SceneView {
       return obj;
     });
 
-    const skinTracked = new THREE.MeshStandardMaterial({ color: SKIN, transparent: true, opacity: 0.3, depthWrite: false });
-    const skinVisual = new THREE.MeshStandardMaterial({ color: SKIN, roughness: 0.6 });
+    const skinTracked = new THREE.MeshLambertMaterial({ color: SKIN, transparent: true, opacity: 0.3, depthWrite: false });
+    const skinVisual = new THREE.MeshLambertMaterial({ color: SKIN });
     this.hands = rec.header.hands.map((h) => {
       const make = (mat) => h.bones.map((bone) => {
         const o = shapeObject(bone.shape, mat, extent);
