@@ -209,6 +209,7 @@ class Viewer {
       scene: rec.header.scene,
       frames: rec.frames,
       keyFrame: rec.keyFrame,
+      duration: rec.t[rec.frames - 1] - rec.t[0],
       index: f,
       frame: rec.frameNo[f],
       t: rec.t[f],
