@@ -102,16 +102,17 @@ test('loads, plays, seeks and shows the frame asked for', async () => {
   s = await page.evaluate(() => window.gripViewer.state());
   assert.equal(s.index, 60);
 
-  // Play from the start at half speed (5 s for the 2.5 s run): time moves on; pause stops it.
+  // Play from the start at a quarter speed (10 s for the 2.5 s run): time moves on; pause
+  // stops it.
   await page.evaluate(() => window.gripViewer.seek(0));
-  await page.selectOption('#speed', '0.5');
+  await page.selectOption('#speed', '0.25');
   await page.click('#play');
-  await page.waitForFunction(() => window.gripViewer.state().index >= 20, null, { timeout: 20000 });
+  await page.waitForFunction(() => window.gripViewer.state().index >= 10, null, { timeout: 20000 });
   await page.click('#play');
   const paused = await page.evaluate(() => window.gripViewer.state());
   assert.equal(paused.playing, false);
-  assert.equal(paused.speed, 0.5);
-  assert.ok(paused.index >= 20 && paused.index < rec.frames.length - 1, `paused at ${paused.index}`);
+  assert.equal(paused.speed, 0.25);
+  assert.ok(paused.index >= 10 && paused.index < rec.frames.length - 1, `paused at ${paused.index}`);
   await page.waitForTimeout(300);
   assert.equal((await page.evaluate(() => window.gripViewer.state())).index, paused.index);
 
@@ -126,10 +127,13 @@ test('loads, plays, seeks and shows the frame asked for', async () => {
   for (const layer of ['forces', 'contacts', 'visual']) await page.check(`[data-layer=${layer}]`);
   assert.deepEqual((await page.evaluate(() => window.gripViewer.state())).shown, before);
 
-  // A screenshot mid-grasp: not blank.
+  // A screenshot mid-grasp (frame 61), of the canvas alone (panel and legend hidden): not blank.
+  const hide = await page.addStyleTag({ content: '#panel, #legend { visibility: hidden; }' });
   const shot = await page.locator('#view').screenshot();
+  await hide.evaluate((e) => e.remove());
   const stats = await pixelStats(page, shot, []);
-  assert.ok(stats.colours > 500, `only ${stats.colours} colours`);
+  if (process.env.GRIP_WEB_VERBOSE) console.log(stats);
+  assert.ok(stats.colours > 100, `only ${stats.colours} colours`); // 688 here; a blank canvas has 1
   assert.ok(stats.differing > stats.pixels * 0.05, `only ${stats.differing} of ${stats.pixels} pixels differ from the background`);
   assert.deepEqual(errors, []);
   await page.close();
