@@ -66,6 +66,8 @@ test('grip view refuses a file that is not a complete recording', () => {
     assert.match(r.stderr, message);
     assert.equal(r.stderr.trim().split('\n').length, 1);
   }
+  const html = grip(['run', 'grasp_lift', '--html'], 1);
+  assert.equal(html.stderr, 'grip: --html: needs --out DIR (the report goes beside the recording)\n');
 });
 
 test('loads, plays, seeks and shows the frame asked for', async () => {
