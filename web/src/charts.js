@@ -75,7 +75,7 @@ export class Charts {
     const opts = {
       width: 320,
       height: 130,
-      legend: { show: true, live: false },
+      legend: { show: true, live: true }, // hovering a chart shows its values
       cursor: { drag: { x: false, y: false }, points: { show: false } },
       scales: { x: { time: false } },
       axes: [{ size: 28 }, { size: 44 }],

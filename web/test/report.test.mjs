@@ -1,6 +1,6 @@
 // The report page that `grip demo` and `grip run --html` write: opened from disk (file://) in
 // Debian's chromium, it shows the checks, the still and plays the embedded recording.
-import test from 'node:test';
+import test, { after } from 'node:test';
 import assert from 'node:assert/strict';
 import { readFileSync } from 'node:fs';
 import { join } from 'node:path';
@@ -9,7 +9,7 @@ import { grip, readRecording, workDir } from './util.mjs';
 
 const dir = workDir('report');
 const browser = await launch();
-test.after(() => browser.close());
+after(() => browser.close());
 
 async function openReport(file) {
   const errors = [];

@@ -1,7 +1,7 @@
 // The viewer in Debian's chromium, served by `grip view`: loads a recording, plays, seeks and
 // shows the frame asked for; a screenshot is not blank and shows every body; broken and
 // truncated recordings give a clear message in the page.
-import test from 'node:test';
+import test, { after } from 'node:test';
 import assert from 'node:assert/strict';
 import { readFileSync, writeFileSync } from 'node:fs';
 import { join } from 'node:path';
@@ -31,7 +31,7 @@ grip(['run', join(dir, 'shapes.json'), '--out', join(dir, 'shapes'), '--quiet'])
 
 const view = await startView(recPath);
 const browser = await launch();
-test.after(async () => {
+after(async () => {
   await browser.close();
   view.proc.kill('SIGTERM');
 });
