@@ -36,7 +36,7 @@ function shapeObject(s, material, extent) {
       g.add(m);
       // Grid squares of a power of ten: 10 cm for a hand-sized scene.
       const step = Math.pow(10, Math.ceil(Math.log10(extent / 40)));
-      const grid = new THREE.GridHelper(extent, Math.round(extent / step), 0xa0a8b0, 0xd0d6dc);
+      const grid = new THREE.GridHelper(extent, Math.round(extent / step), 0x8a949e, 0xaab3bc);
       grid.quaternion.setFromUnitVectors(new THREE.Vector3(0, 1, 0), new THREE.Vector3(...s.normal).normalize());
       grid.position.copy(m.position).addScaledVector(new THREE.Vector3(...s.normal).normalize(), 1e-4);
       grid.userData.decoration = true;
@@ -160,7 +160,10 @@ export class SceneView {
 
     this.bodies = rec.header.bodies.map((b, i) => {
       const color = b.type === 'static' ? 0xe4e8ec : BODY_COLORS[i % BODY_COLORS.length];
-      const normal = new THREE.MeshLambertMaterial({ color, side: THREE.DoubleSide });
+      // Planes unlit: a large shaded square is most of a frame's cost in software GL.
+      const plane = b.shape.type === 'plane';
+      const Material = plane ? THREE.MeshBasicMaterial : THREE.MeshLambertMaterial;
+      const normal = new Material({ color: plane ? 0xd3d8de : color, side: THREE.DoubleSide });
       const id = new THREE.MeshBasicMaterial({ color: ID_COLORS[i % ID_COLORS.length], side: THREE.DoubleSide });
       const obj = shapeObject(b.shape, normal, extent);
       obj.userData = { normal, id, plane: b.shape.type === 'plane' };
@@ -242,7 +245,7 @@ export class SceneView {
     for (const b of this.bodies) {
       b.traverse((o) => {
         if (o.userData.decoration) o.visible = !on;
-        if (o.material) o.material = on ? b.userData.id : b.userData.normal;
+        else if (o.material) o.material = on ? b.userData.id : b.userData.normal;
       });
     }
     this.showFrame(this.frame || 0);
