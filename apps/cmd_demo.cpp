@@ -1,10 +1,12 @@
 // `grip demo`: a stack of boxes hit by a thrown ball, printed as it happens; then a built-in hand
 // scene (default: grasp_lift) run and recorded like `grip run NAME --out DIR`.
 #include <cstdio>
+#include <filesystem>
 
 #include "commands.hpp"
 #include "dynamics/scenes.hpp"
 #include "scene/scene.hpp"
+#include "web/report.hpp"
 
 namespace grip::cli {
 
@@ -62,6 +64,10 @@ int runHandScene(const std::string& name, const std::string& out) {
   std::printf("state hash %s; recording written to %s, metrics to %s (format: docs/scenes.md)\n",
               r.metrics["stateHash"].get<std::string>().c_str(), r.recordingPath.c_str(),
               r.metricsPath.c_str());
+  const std::string page = (std::filesystem::path(out) / "report.html").string();
+  web::writeReport(r.recordingPath, r.metrics, page);
+  std::printf("see it: open %s in a browser (or `grip view %s`)\n", page.c_str(),
+              r.recordingPath.c_str());
   std::printf("more scenes: `grip scenes`; run one with `grip run NAME --out DIR`\n");
   return r.allPassed() ? 0 : 3;
 }

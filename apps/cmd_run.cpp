@@ -8,6 +8,7 @@
 
 #include "commands.hpp"
 #include "scene/scene.hpp"
+#include "web/report.hpp"
 
 namespace grip::cli {
 
@@ -20,6 +21,7 @@ struct RunArgs {
   std::vector<std::string> sets;
   int recordEvery = 1;
   bool quiet = false;
+  bool html = false;
 };
 
 // A file path if one exists there, else the name of a built-in scene. `baseDir` receives the
@@ -45,6 +47,8 @@ void progressBar(int step, int steps) {
 }
 
 int runScene(const RunArgs& a) {
+  if (a.html && a.out.empty())
+    throw Error("--html", "needs --out DIR (the report goes beside the recording)");
   std::string baseDir;
   nlohmann::json doc = loadDocument(a.scene, baseDir);
   for (const std::string& s : a.sets) scene::applyOverride(doc, s);
@@ -81,6 +85,13 @@ int runScene(const RunArgs& a) {
       std::printf("wrote %s and %s\n", r.recordingPath.c_str(), r.metricsPath.c_str());
     }
   }
+  if (a.html) {
+    const std::string page = (std::filesystem::path(a.out) / "report.html").string();
+    const web::ReportStats st = web::writeReport(r.recordingPath, m, page);
+    if (!a.quiet)
+      std::printf("wrote %s (%.1f MB, %d of %d frames embedded; open it in a browser)\n",
+                  page.c_str(), static_cast<double>(st.bytes) / 1e6, st.framesKept, st.framesIn);
+  }
   std::printf("state hash %s\n", m["stateHash"].get<std::string>().c_str());
   if (!r.allPassed()) {
     std::fprintf(
@@ -104,6 +115,8 @@ Command addRunCommand(CLI::App& app) {
   sub->add_option("--set", a->sets, "override a scene value: KEY=VALUE, e.g. world.substeps=8");
   sub->add_option("--record-every", a->recordEvery, "record every n-th step")
       ->check(CLI::Range(1, 1000000));
+  sub->add_flag("--html", a->html,
+                "also write report.html: the viewer with the recording (needs --out)");
   sub->add_flag("--quiet,-q", a->quiet, "print only the state hash (and errors)");
   return {sub, [a] { return runScene(*a); }};
 }

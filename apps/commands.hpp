@@ -15,6 +15,7 @@ Command addDemoCommand(CLI::App& app);
 Command addRunCommand(CLI::App& app);
 Command addScenesCommand(CLI::App& app);
 Command addEvalCommand(CLI::App& app);
+Command addViewCommand(CLI::App& app);
 #ifdef GRIP_HAVE_VOXEL
 Command addPrepCommand(CLI::App& app);
 #endif

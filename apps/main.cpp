@@ -14,6 +14,7 @@ int main(int argc, char** argv) {
   commands.push_back(grip::cli::addRunCommand(app));
   commands.push_back(grip::cli::addScenesCommand(app));
   commands.push_back(grip::cli::addEvalCommand(app));
+  commands.push_back(grip::cli::addViewCommand(app));
 #ifdef GRIP_HAVE_VOXEL
   commands.push_back(grip::cli::addPrepCommand(app));
 #endif

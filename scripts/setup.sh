@@ -9,7 +9,10 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   nlohmann-json3-dev libcli11-dev     # scene files and the command line
   libbullet-dev libode-dev            # peers for side-by-side comparisons
+  chromium fonts-dejavu-core          # the viewer's browser tests and screenshots (docs/viewer.md)
 )
+# The viewer is built with Node.js and npm (web/): Debian's, unless a node is already there.
+command -v node >/dev/null || packages+=(nodejs npm)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -18,6 +18,9 @@
 namespace grip::scene {
 
 inline constexpr int kSceneVersion = 1;
+// Version 2 of the recording adds the geometry of hulls (points, faces) and compounds
+// (children) to the header's shapes, so that a viewer can draw every body.
+inline constexpr int kRecordingVersion = 2;
 
 // ---- the parsed scene -------------------------------------------------------------------------
 
@@ -170,6 +173,9 @@ struct RunResult {
   nlohmann::json metrics;
   std::string recordingPath, metricsPath;  // empty when not written
 };
+
+// A shape as the recording's header describes it (docs/scenes.md).
+nlohmann::json shapeJson(const Shape& shape);
 
 // Runs the scene to its duration. Throws grip::Error on failures to write the output (the
 // partial recording is removed; nothing is left looking complete).

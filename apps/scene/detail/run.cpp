@@ -180,6 +180,8 @@ json vecJson(const Vec3& v) {
   return {v.x(), v.y(), v.z()};
 }
 
+}  // namespace
+
 json shapeJson(const Shape& s) {
   switch (s.type()) {
     case ShapeType::Box:
@@ -190,19 +192,26 @@ json shapeJson(const Shape& s) {
       return {{"type", "capsule"}, {"radius", s.radius()}, {"halfHeight", s.halfHeight()}};
     case ShapeType::Plane:
       return {{"type", "plane"}, {"normal", vecJson(s.planeNormal())}, {"offset", s.planeOffset()}};
-    case ShapeType::Compound: {
-      // Each box as [cx, cy, cz, hx, hy, hz] in the body frame (voxel assets are axis aligned).
-      json boxes = json::array();
-      for (const CompoundChild& c : s.children()) {
-        const Vec3 h = c.shape->halfExtents();
-        boxes.push_back({c.local.p.x(), c.local.p.y(), c.local.p.z(), h.x(), h.y(), h.z()});
-      }
-      return {{"type", "compound"}, {"boxes", boxes}};
+    case ShapeType::ConvexHull: {
+      json points = json::array(), faces = json::array();
+      for (const Vec3& v : s.hull().vertices) points.push_back(vecJson(v));
+      for (const ConvexHullData::Face& f : s.hull().faces) faces.push_back(f.vertices);
+      return {{"type", "hull"}, {"points", points}, {"faces", faces}, {"rounding", s.radius()}};
     }
-    default:
-      return {{"type", "hull"}};
+    case ShapeType::Compound: {
+      json children = json::array();
+      for (const CompoundChild& c : s.children()) {
+        json child = poseJson(c.local);
+        child["shape"] = shapeJson(*c.shape);
+        children.push_back(child);
+      }
+      return {{"type", "compound"}, {"children", children}};
+    }
   }
+  return {{"type", shapeTypeName(s.type())}};
 }
+
+namespace {
 
 // ---- checks -------------------------------------------------------------------------------------
 
@@ -317,7 +326,7 @@ RunResult run(const Scene& scene, const RunOptions& options) {
     rec = std::make_unique<Recording>(dir, "recording.jsonl");
     json header = {
         {"format", "grip-recording"},
-        {"version", 1},
+        {"version", kRecordingVersion},
         {"scene", scene.name},
         {"dt", dt},
         {"steps", steps},
