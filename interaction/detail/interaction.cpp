@@ -59,6 +59,8 @@ struct Hand {
   HandPose tracked;
   HandPose visual;
   HandPose pending;
+  HandPose previous;  // the tracked pose before this update's frame (for swept contacts)
+  bool hasPrevious = false;
   bool hasPending = false;
   bool active = false;   // has a usable pose (tracked now or within the grace period)
   bool release = false;  // end all contacts at the next update
@@ -117,7 +119,7 @@ struct Interaction::Impl {
   std::vector<BodyId> bodyScratch;
   std::array<int, kBonesPerHand> boneContact{};
   // Scratch, reused every update so the hot path does not allocate.
-  std::vector<OverlapHit> hits;
+  std::vector<OverlapHit> hits, sweepHits;
   std::vector<SpringPoint> springs;
   std::vector<ConeResult> cone;
   std::vector<Vec3> forceBatch, pointBatch;  // one addForcesAtPositions call per body
@@ -171,6 +173,7 @@ struct Interaction::Impl {
 
   // ---- the stages ----
   void takeFrames(double dt);
+  Transform sweptBonePose(const World& w, const Hand& h, int bone, double reach);
   void dropDeadContacts(const World& w);
   void findContacts(const World& w);
   void refreshDynamicBodies(const World& w);
@@ -198,6 +201,8 @@ void Interaction::Impl::takeFrames(double dt) {
   for (Hand& h : hands) {
     if (!h.alive) continue;
     if (h.hasPending) {
+      h.previous = h.tracked;
+      h.hasPrevious = h.active;
       h.tracked = h.pending;
       h.hasPending = false;
       h.active = true;
@@ -214,6 +219,7 @@ void Interaction::Impl::takeFrames(double dt) {
       if (h.sinceFrame > def.trackingGrace) {
         h.active = false;
         h.release = true;
+        h.hasPrevious = false;
         h.hasPreviousPalm = false;
         h.palmVelocity = h.palmAngularVelocity = Vec3::Zero();
       }
@@ -237,6 +243,32 @@ void Interaction::Impl::dropDeadContacts(const World& w) {
   for (Hand& h : hands) h.release = false;
 }
 
+// A bone that moved farther than the contact reach since the last frame is swept: its path is
+// sampled at steps of its own radius and the first pose that comes within reach of a dynamic
+// body is where the contact is looked for, so a fast finger cannot pass through a thin plate
+// between two frames (the spring from that first touch to the bone's pose now pushes the body).
+// Bones that moved less are tested where they are.
+Transform Interaction::Impl::sweptBonePose(const World& w, const Hand& h, int bone,
+                                           double reach) {
+  const Transform& to = h.tracked.bones[bone];
+  if (!h.hasPrevious) return to;
+  const Transform& from = h.previous.bones[bone];
+  const double travel = (to.p - from.p).norm();
+  if (travel <= reach) return to;
+  const Shape& shape = *h.shapes.bones[bone];
+  const double step = std::max(shape.radius(), 0.5 * reach);
+  const int samples = std::min(64, static_cast<int>(std::ceil(travel / step)));
+  for (int k = 1; k < samples; ++k) {
+    const double t = static_cast<double>(k) / samples;
+    const Transform at{from.p + t * (to.p - from.p), from.q.slerp(t, to.q)};
+    sweepHits.clear();
+    w.overlap(shape, at, reach, sweepHits);
+    for (const OverlapHit& hit : sweepHits)
+      if (w.bodyType(hit.body) == BodyType::Dynamic) return at;
+  }
+  return to;
+}
+
 // Bone-versus-body proximity with the World's overlap query: a contact begins within the
 // contact offset and ends beyond contactOffset + releaseMargin (hysteresis, so that a finger
 // resting on a surface does not flicker).
@@ -257,7 +289,10 @@ void Interaction::Impl::findContacts(const World& w) {
     for (int bone = 0; bone < kBonesPerHand; ++bone) {
       if (keepPressingContact(hi, bone, reach)) continue;
       hits.clear();
-      w.overlap(*h.shapes.bones[bone], h.tracked.bones[bone], reach, hits);
+      // A bone already in contact is tested where it is; a free one is swept.
+      const Transform pose =
+          boneContact[bone] == -1 ? sweptBonePose(w, h, bone, reach) : h.tracked.bones[bone];
+      w.overlap(*h.shapes.bones[bone], pose, reach, hits);
       for (size_t i = 0; i < hits.size(); ++i) {
         const BodyId body = hits[i].body;
         if (w.bodyType(body) != BodyType::Dynamic) continue;
@@ -289,8 +324,8 @@ void Interaction::Impl::findContacts(const World& w) {
         double separation = bestPoint->separation;
         Vec3 normal = best->normal;
         if (useClosestPoint(w, body)) {
-          refineOnDistanceField(w, body, *h.shapes.bones[bone], h.tracked.bones[bone], nearPoint,
-                                separation, normal);
+          refineOnDistanceField(w, body, *h.shapes.bones[bone], pose, nearPoint, separation,
+                                normal);
         }
         auto it = std::find_if(contacts.begin(), contacts.end(), [&](const Contact& c) {
           return c.hand == hi && c.bone == bone && c.body == body;
@@ -780,6 +815,15 @@ FrameStatus Interaction::setHandPose(HandId id, const HandPose& pose) {
   if (!isFinite(pose)) {
     ++impl_->stats.droppedFrames;
     return FrameStatus::RejectedNonFinite;
+  }
+  // A finite quaternion can still be useless: zero, or so large or small that its norm
+  // overflows or vanishes. Such a frame is dropped like a non-finite one.
+  for (const Transform& t : pose.bones) {
+    const double n = t.q.norm();
+    if (!(n > 1e-6 && n < 1e6)) {
+      ++impl_->stats.droppedFrames;
+      return FrameStatus::RejectedNonFinite;
+    }
   }
   HandPose p = pose;
   for (Transform& t : p.bones) t.q.normalize();
