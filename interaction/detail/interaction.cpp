@@ -34,6 +34,8 @@ struct Contact {
   bool passive = false;   // began too deep (resumed tracking): no force until it surfaces
   bool slipping = false;
   bool fresh = false;  // began in this update (its begin event is still to be sent)
+  bool swept = false;  // began on the bone's path (fast bone): anchored at the first touch
+  Transform touchPose;  // the bone's pose at that first touch
   // From this update's overlap: the deepest point pair, normal from bone to body.
   Vec3 bonePoint = Vec3::Zero();
   Vec3 contactNormal = Vec3::UnitY();
@@ -119,7 +121,7 @@ struct Interaction::Impl {
   std::vector<BodyId> bodyScratch;
   std::array<int, kBonesPerHand> boneContact{};
   // Scratch, reused every update so the hot path does not allocate.
-  std::vector<OverlapHit> hits, sweepHits;
+  std::vector<OverlapHit> hits;
   std::vector<SpringPoint> springs;
   std::vector<ConeResult> cone;
   std::vector<Vec3> forceBatch, pointBatch;  // one addForcesAtPositions call per body
@@ -173,7 +175,7 @@ struct Interaction::Impl {
 
   // ---- the stages ----
   void takeFrames(double dt);
-  Transform sweptBonePose(const World& w, const Hand& h, int bone, double reach);
+  Transform sweptBonePose(const World& w, const Hand& h, int bone, double reach) const;
   void dropDeadContacts(const World& w);
   void findContacts(const World& w);
   void refreshDynamicBodies(const World& w);
@@ -243,30 +245,35 @@ void Interaction::Impl::dropDeadContacts(const World& w) {
   for (Hand& h : hands) h.release = false;
 }
 
-// A bone that moved farther than the contact reach since the last frame is swept: its path is
-// sampled at steps of its own radius and the first pose that comes within reach of a dynamic
-// body is where the contact is looked for, so a fast finger cannot pass through a thin plate
-// between two frames (the spring from that first touch to the bone's pose now pushes the body).
-// Bones that moved less are tested where they are.
+// A bone that moved farther than the contact reach since the last frame could have passed
+// through a thin body between the two frames. A ray along its path (from its centre, as far as
+// its leading surface went) finds the first body in the way; the bone is then tested at the
+// pose just before its surface reached that body, so the contact begins there and its spring
+// to the bone's pose pushes the body instead of the bone passing through. One ray per fast
+// free bone; bones that moved less are tested where they are.
 Transform Interaction::Impl::sweptBonePose(const World& w, const Hand& h, int bone,
-                                           double reach) {
+                                           double reach) const {
   const Transform& to = h.tracked.bones[bone];
   if (!h.hasPrevious) return to;
   const Transform& from = h.previous.bones[bone];
-  const double travel = (to.p - from.p).norm();
+  const Vec3 path = to.p - from.p;
+  const double travel = path.norm();
   if (travel <= reach) return to;
+  const Vec3 dir = path / travel;
   const Shape& shape = *h.shapes.bones[bone];
-  const double step = std::max(shape.radius(), 0.5 * reach);
-  const int samples = std::min(64, static_cast<int>(std::ceil(travel / step)));
-  for (int k = 1; k < samples; ++k) {
-    const double t = static_cast<double>(k) / samples;
-    const Transform at{from.p + t * (to.p - from.p), from.q.slerp(t, to.q)};
-    sweepHits.clear();
-    w.overlap(shape, at, reach, sweepHits);
-    for (const OverlapHit& hit : sweepHits)
-      if (w.bodyType(hit.body) == BodyType::Dynamic) return at;
+  double lead = shape.radius();  // how far the bone's surface leads its centre along dir
+  if (shape.type() == ShapeType::Capsule) {
+    lead += shape.halfHeight() * std::abs(dir.dot(from.rotate(Vec3::UnitY())));
+  } else if (shape.type() == ShapeType::Box) {
+    for (int k = 0; k < 3; ++k)
+      lead += shape.halfExtents()[k] * std::abs(dir.dot(from.rotate(Vec3::Unit(k))));
   }
-  return to;
+  const std::optional<WorldRayHit> hit = w.rayCast(from.p, dir, travel + lead);
+  if (!hit || w.bodyType(hit->body) != BodyType::Dynamic) return to;
+  const double t =
+      std::max(0.0, (hit->hit.distance - lead - 0.5 * def.contactOffset) / travel);
+  if (t >= 1.0) return to;
+  return Transform{from.p + t * path, from.q.slerp(t, to.q)};
 }
 
 // Bone-versus-body proximity with the World's overlap query: a contact begins within the
@@ -289,9 +296,10 @@ void Interaction::Impl::findContacts(const World& w) {
     for (int bone = 0; bone < kBonesPerHand; ++bone) {
       if (keepPressingContact(hi, bone, reach)) continue;
       hits.clear();
-      // A bone already in contact is tested where it is; a free one is swept.
+      // A bone pressing a body is tested where it is; a free or merely touching one is swept.
+      const bool pressing = boneContact[bone] >= 0 && contacts[boneContact[bone]].anchored;
       const Transform pose =
-          boneContact[bone] == -1 ? sweptBonePose(w, h, bone, reach) : h.tracked.bones[bone];
+          boneContact[bone] == -2 || pressing ? h.tracked.bones[bone] : sweptBonePose(w, h, bone, reach);
       w.overlap(*h.shapes.bones[bone], pose, reach, hits);
       for (size_t i = 0; i < hits.size(); ++i) {
         const BodyId body = hits[i].body;
@@ -344,6 +352,10 @@ void Interaction::Impl::findContacts(const World& w) {
           it->normal = -normal;
         }
         it->seen = true;
+        if (!it->anchored) {
+          it->swept = pose.p != h.tracked.bones[bone].p;
+          it->touchPose = pose;
+        }
         it->child = best->childB;
         it->separation = separation;
         it->contactNormal = normal;
@@ -466,7 +478,9 @@ bool Interaction::Impl::placePoint(const World& w, const Contact& c, Vec3& point
 // targets on the bone at the same offsets from the bone's near point.
 void Interaction::Impl::anchor(const World& w, Contact& c, const Vec3& point, const Vec3& normal) {
   const Transform body = w.pose(c.body);
-  const Transform& bone = hands[c.hand].tracked.bones[c.bone];
+  // A swept contact is fixed where the bone first touched, so its springs reach from there to
+  // the bone's pose now and push the body along the bone's path.
+  const Transform& bone = c.swept ? c.touchPose : hands[c.hand].tracked.bones[c.bone];
   Vec3 t1, t2;
   tangentBasis(normal, t1, t2);
   const double radius = c.bone == kPalmBone    ? def.palmPatchRadius
@@ -502,7 +516,9 @@ void Interaction::Impl::placeContactPoints(const World& w) {
     c.fresh = false;
     if (!placed) continue;
     const double depth = -(c.bonePoint - point).dot(normal);
-    if (depth > 0.0 && !c.passive) {
+    if (c.swept && !c.passive) {
+      anchor(w, c, point, normal);
+    } else if (depth > 0.0 && !c.passive) {
       // Anchor straight above the bone's point on the face the ray found: the ray's tilt toward
       // the sub-shape centre is an artifact of where it started, and the tangential stretch it
       // leaves would make the patch slip (or, in many-contact grasps, kick) at the first step.

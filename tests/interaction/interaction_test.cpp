@@ -377,7 +377,9 @@ TEST(Tracking, ClosingHardOnABarOnTheFloorDoesNotLaunchIt) {
   }
   EXPECT_TRUE(finiteBody(w, bar));
   EXPECT_GT(slipping, 30);  // the case: many samples slip at once
-  EXPECT_LT(fastest, 1.5);
+  // Peak speeds measured: 0.8 m/s, and 1.6 m/s since the floor holds sticking patches with
+  // anchors (the bar is briefly squeezed against them); thrown, it reached 8 m/s.
+  EXPECT_LT(fastest, 2.0);
   EXPECT_LT((w.centerOfMass(bar) - start).norm(), 0.04);
 }
 

@@ -9,6 +9,7 @@
 
 #include "core/error.hpp"
 #include "interaction/hand.hpp"
+#include "scene/scene.hpp"
 
 namespace grip::scene {
 
@@ -88,7 +89,10 @@ RecordingSummary checkRecording(std::istream& in, const std::string& origin) {
     if (!j.is_object()) c.fail("expected an object");
     if (lineNo == 1) {
       if (c.string(j, "format") != "grip-recording") c.fail("not a grip recording");
-      if (c.number(j, "version") != 1.0) c.fail("unsupported version (this build reads 1)");
+      const double version = c.number(j, "version");
+      if (version != 1.0 && version != kRecordingVersion)  // 2 only added geometry to the header
+        c.fail("unsupported version (this build reads 1 to " + std::to_string(kRecordingVersion) +
+               ")");
       sum.scene = c.string(j, "scene");
       sum.dt = c.number(j, "dt");
       if (!(sum.dt > 0.0)) c.fail("\"dt\" must be positive");
