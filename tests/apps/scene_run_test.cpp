@@ -129,6 +129,22 @@ TEST(SceneRun, RecordEveryThinsTheFrames) {
   fs::remove_all(dir);
 }
 
+// Found by fuzz/fuzz_scene.cpp: a scene shortened after parsing, with a check measured from a
+// time the run no longer reaches, read reference states that were never taken.
+TEST(SceneRun, ACheckFromATimeTheRunNeverReachesIsRefused) {
+  Scene s = parseScene(*builtinScene("push_box"));
+  ASSERT_FALSE(s.checks.empty());
+  s.checks.back().since = 0.5;
+  s.duration = 0.25;
+  try {
+    run(s);
+    FAIL() << "run() accepted a check from after the end";
+  } catch (const Error& e) {
+    EXPECT_EQ(std::string(e.what()), "checks[" + std::to_string(s.checks.size() - 1) +
+                                         "].since: must be before the end of the run (duration)");
+  }
+}
+
 TEST(SceneRun, AnUnwritableOutputDirectoryIsRefusedAndLeavesNothing) {
   const fs::path dir = freshDir("ro");
   fs::create_directories(dir);

@@ -160,5 +160,41 @@ TEST(MeshInput, CgalDataBrokenMeshesGiveTheirMessages) {
   }
 }
 
+// Inputs found by the fuzzer (fuzz/fuzz_mesh.cpp), kept in tests/voxel/data/ and in the fuzz
+// corpus: each once crashed or hit undefined behaviour inside CGAL's readers.
+TEST(MeshInput, FuzzerFindingsAreRefusedWithAMessage) {
+  // CGAL's PLY reader adds a property to the last element without checking there is one.
+  const std::string ply =
+      sourceDir() + "/tests/voxel/data/regression_ply_property_before_element.ply";
+  EXPECT_NE(failure(ply).find("malformed PLY header: a property before any element on line 4"),
+            std::string::npos)
+      << failure(ply);
+  // The same check, and the others of the PLY header, on written files.
+  struct Case {
+    const char* file;
+    const char* text;
+    const char* message;
+  };
+  const Case cases[] = {
+      {"prop.ply", "ply\nformat ascii 1.0\nproperty float x\nelement vertex 1\nend_header\n0\n",
+       "a property before any element on line 3"},
+      {"count.ply", "ply\nformat ascii 1.0\nelement vertex x\n",
+       "an element without a name and count on line 3"},
+      {"huge.ply",
+       "ply\nformat ascii 1.0\nelement face 99999999999\nproperty list uchar int vertex_indices\n"
+       "end_header\n",
+       "absurd size"},
+      {"liar.ply", "ply\nformat ascii 1.0\nelement vertex 1000\nproperty float x\nend_header\n0\n",
+       "truncated: the header claims 1000 elements"},
+      {"nohead.ply", "ply\nformat ascii 1.0\nelement vertex 1\n",
+       "PLY header without \"end_header\""},
+      {"notply.ply", "PLY\n", "no \"ply\" on the first line"},
+  };
+  for (const Case& c : cases) {
+    const std::string msg = failure(writeFile(c.file, c.text));
+    EXPECT_NE(msg.find(c.message), std::string::npos) << c.file << ": got \"" << msg << "\"";
+  }
+}
+
 }  // namespace
 }  // namespace grip::voxel::test

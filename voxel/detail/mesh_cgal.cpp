@@ -91,6 +91,66 @@ void checkOffHeader(const std::string& path, uintmax_t fileBytes) {
                           " faces but the file has only " + std::to_string(fileBytes) + " bytes");
 }
 
+// PLY headers are checked before CGAL reads them: CGAL's reader adds a "property" to the last
+// element without checking that there is one (undefined behaviour on a header whose property
+// comes first; found by fuzz/fuzz_mesh.cpp), and it loops over element counts the file cannot
+// hold.
+void checkPlyHeader(const std::string& path, uintmax_t fileBytes) {
+  std::ifstream f(path, std::ios::binary);
+  std::string line;
+  size_t lineNo = 0;
+  bool elements = false;
+  double total = 0.0;  // elements claimed
+  while (std::getline(f, line)) {
+    ++lineNo;
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    std::istringstream ls(line);
+    std::string keyword;
+    ls >> keyword;
+    if (lineNo == 1) {
+      if (keyword != "ply") throw Error(path, "malformed PLY (no \"ply\" on the first line)");
+      continue;
+    }
+    const std::string at = " on line " + std::to_string(lineNo);
+    if (keyword == "end_header") {
+      // Every element takes at least one byte (ASCII: a digit; binary: one property).
+      if (total > static_cast<double>(fileBytes))
+        throw Error(
+            path, "truncated: the header claims " + std::to_string(static_cast<long long>(total)) +
+                      " elements but the file has only " + std::to_string(fileBytes) + " bytes");
+      return;
+    }
+    if (keyword == "format") {
+      std::string format;
+      ls >> format;
+      if (format != "ascii" && format != "binary_little_endian" && format != "binary_big_endian")
+        throw Error(path, "cannot parse as ply (unknown format \"" + format + "\"" + at + ")");
+    }
+    if (keyword == "property" && !elements)
+      throw Error(path, "malformed PLY header: a property before any element" + at);
+    if (keyword == "element") {
+      std::string name, count;
+      ls >> name >> count;
+      double n = -1;
+      try {
+        size_t used = 0;
+        n = std::stod(count, &used);
+        if (used != count.size() || count.find_first_not_of("0123456789") != std::string::npos)
+          n = -1;
+      } catch (const std::exception&) {
+      }
+      if (name.empty() || n < 0)
+        throw Error(path, "malformed PLY header: an element without a name and count" + at);
+      if (n > static_cast<double>(kMaxFaces))
+        throw Error(path, "absurd size: the header claims " + count + " " + name + " elements" +
+                              at + " (limit " + std::to_string(kMaxFaces) + ")");
+      total += n;
+      elements = true;
+    }
+  }
+  throw Error(path, "truncated: PLY header without \"end_header\"");
+}
+
 // After a failed parse of a text mesh: the line of the first number that is not finite ("nan",
 // "inf", "1e400"), or 0. CGAL's readers just fail on those; this names the problem.
 size_t firstNonFiniteLine(const std::string& path) {
@@ -351,6 +411,7 @@ Mesh loadMesh(const std::string& path, const RepairOptions& options, MeshReport*
   if (ec || bytes == 0) throw Error(path, "empty file");
   if (ext == "off") checkOffHeader(path, bytes);
   if (ext == "stl") checkStl(path, bytes);
+  if (ext == "ply") checkPlyHeader(path, bytes);
   std::vector<Point> points;
   std::vector<Polygon> polygons;
   bool ok = false;

@@ -283,6 +283,12 @@ bool RunResult::allPassed() const {
 
 RunResult run(const Scene& scene, const RunOptions& options) {
   const auto t0 = Clock::now();
+  // parseScene checks this too, but a Scene can be edited after parsing (a shorter duration):
+  // a check whose reference time is never reached would read states never taken.
+  for (size_t k = 0; k < scene.checks.size(); ++k)
+    if (!(scene.checks[k].since < scene.duration))
+      throw Error("checks[" + std::to_string(k) + "].since",
+                  "must be before the end of the run (duration)");
   World world(scene.world);
   Interaction ix(scene.interaction);
   std::vector<BodyId> ids;
