@@ -33,8 +33,8 @@ struct Contact {
   bool anchored = false;  // pressing: the patch is fixed on the body
   bool passive = false;   // began too deep (resumed tracking): no force until it surfaces
   bool slipping = false;
-  bool fresh = false;  // began in this update (its begin event is still to be sent)
-  bool swept = false;  // began on the bone's path (fast bone): anchored at the first touch
+  bool fresh = false;   // began in this update (its begin event is still to be sent)
+  bool swept = false;   // began on the bone's path (fast bone): anchored at the first touch
   Transform touchPose;  // the bone's pose at that first touch
   // From this update's overlap: the deepest point pair, normal from bone to body.
   Vec3 bonePoint = Vec3::Zero();
@@ -258,8 +258,9 @@ Transform Interaction::Impl::sweptBonePose(const World& w, const Hand& h, int bo
   const Transform& from = h.previous.bones[bone];
   const Vec3 path = to.p - from.p;
   const double travel = path.norm();
-  if (travel <= reach) return to;
-  const Vec3 dir = path / travel;
+  // Beyond the teleport distance the frame is a jump, not a motion (and it releases anyway).
+  if (travel <= reach || !(travel <= def.teleportDistance)) return to;
+  const Vec3 dir = path.normalized();
   const Shape& shape = *h.shapes.bones[bone];
   double lead = shape.radius();  // how far the bone's surface leads its centre along dir
   if (shape.type() == ShapeType::Capsule) {
@@ -270,8 +271,7 @@ Transform Interaction::Impl::sweptBonePose(const World& w, const Hand& h, int bo
   }
   const std::optional<WorldRayHit> hit = w.rayCast(from.p, dir, travel + lead);
   if (!hit || w.bodyType(hit->body) != BodyType::Dynamic) return to;
-  const double t =
-      std::max(0.0, (hit->hit.distance - lead - 0.5 * def.contactOffset) / travel);
+  const double t = std::max(0.0, (hit->hit.distance - lead - 0.5 * def.contactOffset) / travel);
   if (t >= 1.0) return to;
   return Transform{from.p + t * path, from.q.slerp(t, to.q)};
 }
@@ -298,8 +298,8 @@ void Interaction::Impl::findContacts(const World& w) {
       hits.clear();
       // A bone pressing a body is tested where it is; a free or merely touching one is swept.
       const bool pressing = boneContact[bone] >= 0 && contacts[boneContact[bone]].anchored;
-      const Transform pose =
-          boneContact[bone] == -2 || pressing ? h.tracked.bones[bone] : sweptBonePose(w, h, bone, reach);
+      const Transform pose = boneContact[bone] == -2 || pressing ? h.tracked.bones[bone]
+                                                                 : sweptBonePose(w, h, bone, reach);
       w.overlap(*h.shapes.bones[bone], pose, reach, hits);
       for (size_t i = 0; i < hits.size(); ++i) {
         const BodyId body = hits[i].body;
