@@ -163,6 +163,9 @@ TEST(MeshInput, CgalDataBrokenMeshesGiveTheirMessages) {
 // Inputs found by the fuzzer (fuzz/fuzz_mesh.cpp), kept in tests/voxel/data/ and in the fuzz
 // corpus: each once crashed or hit undefined behaviour inside CGAL's readers.
 TEST(MeshInput, FuzzerFindingsAreRefusedWithAMessage) {
+  // CGAL's OFF reader converts a face index read as a double to size_t (2e33: undefined).
+  const std::string off = sourceDir() + "/tests/voxel/data/regression_off_huge_index.off";
+  EXPECT_NE(failure(off).find("absurd number '2e33' on line 8"), std::string::npos) << failure(off);
   // CGAL's PLY reader adds a property to the last element without checking there is one.
   const std::string ply =
       sourceDir() + "/tests/voxel/data/regression_ply_property_before_element.ply";
@@ -189,6 +192,12 @@ TEST(MeshInput, FuzzerFindingsAreRefusedWithAMessage) {
       {"nohead.ply", "ply\nformat ascii 1.0\nelement vertex 1\n",
        "PLY header without \"end_header\""},
       {"notply.ply", "PLY\n", "no \"ply\" on the first line"},
+      // CGAL's OFF reader converts a face index read as a double to size_t.
+      {"index.off",
+       "OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2e33\n3 1 2 3\n",
+       "absurd number '2e33' on line 9"},
+      {"infindex.off", "OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 inf\n",
+       "non-finite number on line 8"},
   };
   for (const Case& c : cases) {
     const std::string msg = failure(writeFile(c.file, c.text));

@@ -89,6 +89,29 @@ void checkOffHeader(const std::string& path, uintmax_t fileBytes) {
     throw Error(path, "truncated: the header claims " + std::to_string(static_cast<long long>(nv)) +
                           " vertices and " + std::to_string(static_cast<long long>(nf)) +
                           " faces but the file has only " + std::to_string(fileBytes) + " bytes");
+  // CGAL reads face indices as doubles and converts them to size_t: a huge or non-finite
+  // "index" is undefined behaviour there (found by fuzz/fuzz_mesh.cpp). No valid number in an
+  // OFF body is that large (indices are below the vertex count, coordinates beyond 1e4 m are
+  // refused anyway), so refuse them here.
+  f.clear();
+  f.seekg(0);
+  size_t lineNo = 0;
+  while (std::getline(f, line)) {
+    ++lineNo;
+    const auto hash = line.find('#');
+    if (hash != std::string::npos) line.erase(hash);
+    std::istringstream ls(line);
+    std::string word;
+    while (ls >> word) {
+      char* end = nullptr;
+      const double v = std::strtod(word.c_str(), &end);
+      if (end == word.c_str() || *end != '\0') continue;
+      if (!std::isfinite(v))
+        throw Error(path, "non-finite number on line " + std::to_string(lineNo));
+      if (std::abs(v) > 1e15)
+        throw Error(path, "absurd number '" + word + "' on line " + std::to_string(lineNo));
+    }
+  }
 }
 
 // PLY headers are checked before CGAL reads them: CGAL's reader adds a "property" to the last
