@@ -166,6 +166,11 @@ TEST(MeshInput, FuzzerFindingsAreRefusedWithAMessage) {
   // CGAL's OFF reader converts a face index read as a double to size_t (2e33: undefined).
   const std::string off = sourceDir() + "/tests/voxel/data/regression_off_huge_index.off";
   EXPECT_NE(failure(off).find("absurd number '2e33' on line 8"), std::string::npos) << failure(off);
+  // ...and allocates a face's vertex count before reading it (350 million here: 2.8 GB).
+  const std::string count = sourceDir() + "/tests/voxel/data/regression_off_huge_face_count.off";
+  EXPECT_NE(failure(count).find("truncated: the face on line 48 claims 350542535 vertices"),
+            std::string::npos)
+      << failure(count);
   // CGAL's PLY reader adds a property to the last element without checking there is one.
   const std::string ply =
       sourceDir() + "/tests/voxel/data/regression_ply_property_before_element.ply";
@@ -196,6 +201,8 @@ TEST(MeshInput, FuzzerFindingsAreRefusedWithAMessage) {
       {"index.off",
        "OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2e33\n3 1 2 3\n",
        "absurd number '2e33' on line 9"},
+      {"count.off", "OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n350542535 0 2 1\n",
+       "truncated: the face on line 7 claims 350542535 vertices"},
       {"infindex.off", "OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 inf\n",
        "non-finite number on line 8"},
   };

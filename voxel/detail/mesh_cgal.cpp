@@ -59,7 +59,9 @@ void checkOffHeader(const std::string& path, uintmax_t fileBytes) {
   std::ifstream f(path);
   std::vector<std::string> tokens;  // the keyword and the two counts, comments skipped
   std::string line;
+  size_t headerLines = 0;
   while (tokens.size() < 3 && std::getline(f, line)) {
+    ++headerLines;
     const auto hash = line.find('#');
     if (hash != std::string::npos) line.erase(hash);
     std::istringstream ls(line);
@@ -93,16 +95,26 @@ void checkOffHeader(const std::string& path, uintmax_t fileBytes) {
   // "index" is undefined behaviour there (found by fuzz/fuzz_mesh.cpp). No valid number in an
   // OFF body is that large (indices are below the vertex count, coordinates beyond 1e4 m are
   // refused anyway), so refuse them here.
+  // A face line starts with its vertex count, for which CGAL allocates: it cannot exceed the
+  // file size (found by the fuzzer: a count of 350 million, 2.8 GB).
   f.clear();
   f.seekg(0);
-  size_t lineNo = 0;
+  size_t lineNo = 0, dataLines = 0;
   while (std::getline(f, line)) {
     ++lineNo;
     const auto hash = line.find('#');
     if (hash != std::string::npos) line.erase(hash);
     std::istringstream ls(line);
     std::string word;
+    const bool faceLine = lineNo > headerLines &&
+                          line.find_first_not_of(" \t\r") != std::string::npos &&
+                          ++dataLines > static_cast<size_t>(nv);
+    bool first = true;
     while (ls >> word) {
+      if (faceLine && first && std::strtod(word.c_str(), nullptr) > static_cast<double>(fileBytes))
+        throw Error(path, "truncated: the face on line " + std::to_string(lineNo) + " claims " +
+                              word + " vertices");
+      first = false;
       char* end = nullptr;
       const double v = std::strtod(word.c_str(), &end);
       if (end == word.c_str() || *end != '\0') continue;
