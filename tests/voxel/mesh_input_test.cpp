@@ -177,7 +177,12 @@ TEST(MeshInput, FuzzerFindingsAreRefusedWithAMessage) {
   EXPECT_NE(failure(ply).find("malformed PLY header: a property before any element on line 4"),
             std::string::npos)
       << failure(ply);
-  // The same check, and the others of the PLY header, on written files.
+  const std::string uchar = sourceDir() + "/tests/voxel/data/regression_ply_uchar_coordinate.ply";
+  EXPECT_NE(failure(uchar).find("vertex coordinate z has type 'uchar' (expected float or double) "
+                                "on line 6"),
+            std::string::npos)
+      << failure(uchar);
+  // The same checks, and the others of the PLY header, on written files.
   struct Case {
     const char* file;
     const char* text;
@@ -197,6 +202,9 @@ TEST(MeshInput, FuzzerFindingsAreRefusedWithAMessage) {
       {"nohead.ply", "ply\nformat ascii 1.0\nelement vertex 1\n",
        "PLY header without \"end_header\""},
       {"notply.ply", "PLY\n", "no \"ply\" on the first line"},
+      // CGAL's PLY reader dereferences a null float reader for a coordinate of another type.
+      {"uchar.ply", "ply\nformat ascii 1.0\nelement vertex 1\nproperty uchar z\nend_header\n0\n",
+       "vertex coordinate z has type 'uchar' (expected float or double) on line 4"},
       // CGAL's OFF reader converts a face index read as a double to size_t.
       {"index.off",
        "OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2e33\n3 1 2 3\n",

@@ -135,7 +135,8 @@ void checkPlyHeader(const std::string& path, uintmax_t fileBytes) {
   std::string line;
   size_t lineNo = 0;
   bool elements = false;
-  double total = 0.0;  // elements claimed
+  std::string element;  // the current one
+  double total = 0.0;   // elements claimed
   while (std::getline(f, line)) {
     ++lineNo;
     if (!line.empty() && line.back() == '\r') line.pop_back();
@@ -163,6 +164,15 @@ void checkPlyHeader(const std::string& path, uintmax_t fileBytes) {
     }
     if (keyword == "property" && !elements)
       throw Error(path, "malformed PLY header: a property before any element" + at);
+    // CGAL reads vertex coordinates as float or double only (another type: a null dereference).
+    if (keyword == "property" && element == "vertex") {
+      std::string type, name;
+      ls >> type >> name;
+      if ((name == "x" || name == "y" || name == "z") && type != "float" && type != "float32" &&
+          type != "double" && type != "float64")
+        throw Error(path, "malformed PLY header: vertex coordinate " + name + " has type '" + type +
+                              "' (expected float or double)" + at);
+    }
     if (keyword == "element") {
       std::string name, count;
       ls >> name >> count;
@@ -181,6 +191,7 @@ void checkPlyHeader(const std::string& path, uintmax_t fileBytes) {
                               at + " (limit " + std::to_string(kMaxFaces) + ")");
       total += n;
       elements = true;
+      element = name;
     }
   }
   throw Error(path, "truncated: PLY header without \"end_header\"");
