@@ -211,6 +211,8 @@ TEST(MeshInput, FuzzerFindingsAreRefusedWithAMessage) {
        "absurd number '2e33' on line 9"},
       {"count.off", "OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n350542535 0 2 1\n",
        "truncated: the face on line 7 claims 350542535 vertices"},
+      {"negindex.off", "OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 -4\n",
+       "negative number '-4' in the face on line 7"},
       {"infindex.off", "OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 inf\n",
        "non-finite number on line 8"},
   };

@@ -122,6 +122,9 @@ void checkOffHeader(const std::string& path, uintmax_t fileBytes) {
         throw Error(path, "non-finite number on line " + std::to_string(lineNo));
       if (std::abs(v) > 1e15)
         throw Error(path, "absurd number '" + word + "' on line " + std::to_string(lineNo));
+      if (faceLine && v < 0.0)  // an index converted to size_t (found by the fuzzer too)
+        throw Error(path,
+                    "negative number '" + word + "' in the face on line " + std::to_string(lineNo));
     }
   }
 }
