@@ -163,13 +163,26 @@ TEST(MeshInput, CgalDataBrokenMeshesGiveTheirMessages) {
 // Inputs found by the fuzzer (fuzz/fuzz_mesh.cpp), kept in tests/voxel/data/ and in the fuzz
 // corpus: each once crashed or hit undefined behaviour inside CGAL's readers.
 TEST(MeshInput, FuzzerFindingsAreRefusedWithAMessage) {
+  // CGAL's OFF reader converts a face index read as a double to size_t (2e33: undefined).
+  const std::string off = sourceDir() + "/tests/voxel/data/regression_off_huge_index.off";
+  EXPECT_NE(failure(off).find("absurd number '2e33' on line 8"), std::string::npos) << failure(off);
+  // ...and allocates a face's vertex count before reading it (350 million here: 2.8 GB).
+  const std::string count = sourceDir() + "/tests/voxel/data/regression_off_huge_face_count.off";
+  EXPECT_NE(failure(count).find("truncated: the face on line 48 claims 350542535 vertices"),
+            std::string::npos)
+      << failure(count);
   // CGAL's PLY reader adds a property to the last element without checking there is one.
   const std::string ply =
       sourceDir() + "/tests/voxel/data/regression_ply_property_before_element.ply";
   EXPECT_NE(failure(ply).find("malformed PLY header: a property before any element on line 4"),
             std::string::npos)
       << failure(ply);
-  // The same check, and the others of the PLY header, on written files.
+  const std::string uchar = sourceDir() + "/tests/voxel/data/regression_ply_uchar_coordinate.ply";
+  EXPECT_NE(failure(uchar).find("vertex coordinate z has type 'uchar' (expected float or double) "
+                                "on line 6"),
+            std::string::npos)
+      << failure(uchar);
+  // The same checks, and the others of the PLY header, on written files.
   struct Case {
     const char* file;
     const char* text;
@@ -189,6 +202,19 @@ TEST(MeshInput, FuzzerFindingsAreRefusedWithAMessage) {
       {"nohead.ply", "ply\nformat ascii 1.0\nelement vertex 1\n",
        "PLY header without \"end_header\""},
       {"notply.ply", "PLY\n", "no \"ply\" on the first line"},
+      // CGAL's PLY reader dereferences a null float reader for a coordinate of another type.
+      {"uchar.ply", "ply\nformat ascii 1.0\nelement vertex 1\nproperty uchar z\nend_header\n0\n",
+       "vertex coordinate z has type 'uchar' (expected float or double) on line 4"},
+      // CGAL's OFF reader converts a face index read as a double to size_t.
+      {"index.off",
+       "OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2e33\n3 1 2 3\n",
+       "absurd number '2e33' on line 9"},
+      {"count.off", "OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n350542535 0 2 1\n",
+       "truncated: the face on line 7 claims 350542535 vertices"},
+      {"negindex.off", "OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 -4\n",
+       "negative number '-4' in the face on line 7"},
+      {"infindex.off", "OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 inf\n",
+       "non-finite number on line 8"},
   };
   for (const Case& c : cases) {
     const std::string msg = failure(writeFile(c.file, c.text));

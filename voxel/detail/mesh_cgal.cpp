@@ -59,7 +59,9 @@ void checkOffHeader(const std::string& path, uintmax_t fileBytes) {
   std::ifstream f(path);
   std::vector<std::string> tokens;  // the keyword and the two counts, comments skipped
   std::string line;
+  size_t headerLines = 0;
   while (tokens.size() < 3 && std::getline(f, line)) {
+    ++headerLines;
     const auto hash = line.find('#');
     if (hash != std::string::npos) line.erase(hash);
     std::istringstream ls(line);
@@ -89,6 +91,42 @@ void checkOffHeader(const std::string& path, uintmax_t fileBytes) {
     throw Error(path, "truncated: the header claims " + std::to_string(static_cast<long long>(nv)) +
                           " vertices and " + std::to_string(static_cast<long long>(nf)) +
                           " faces but the file has only " + std::to_string(fileBytes) + " bytes");
+  // CGAL reads face indices as doubles and converts them to size_t: a huge or non-finite
+  // "index" is undefined behaviour there (found by fuzz/fuzz_mesh.cpp). No valid number in an
+  // OFF body is that large (indices are below the vertex count, coordinates beyond 1e4 m are
+  // refused anyway), so refuse them here.
+  // A face line starts with its vertex count, for which CGAL allocates: it cannot exceed the
+  // file size (found by the fuzzer: a count of 350 million, 2.8 GB).
+  f.clear();
+  f.seekg(0);
+  size_t lineNo = 0, dataLines = 0;
+  while (std::getline(f, line)) {
+    ++lineNo;
+    const auto hash = line.find('#');
+    if (hash != std::string::npos) line.erase(hash);
+    std::istringstream ls(line);
+    std::string word;
+    const bool faceLine = lineNo > headerLines &&
+                          line.find_first_not_of(" \t\r") != std::string::npos &&
+                          ++dataLines > static_cast<size_t>(nv);
+    bool first = true;
+    while (ls >> word) {
+      if (faceLine && first && std::strtod(word.c_str(), nullptr) > static_cast<double>(fileBytes))
+        throw Error(path, "truncated: the face on line " + std::to_string(lineNo) + " claims " +
+                              word + " vertices");
+      first = false;
+      char* end = nullptr;
+      const double v = std::strtod(word.c_str(), &end);
+      if (end == word.c_str() || *end != '\0') continue;
+      if (!std::isfinite(v))
+        throw Error(path, "non-finite number on line " + std::to_string(lineNo));
+      if (std::abs(v) > 1e15)
+        throw Error(path, "absurd number '" + word + "' on line " + std::to_string(lineNo));
+      if (faceLine && v < 0.0)  // an index converted to size_t (found by the fuzzer too)
+        throw Error(path,
+                    "negative number '" + word + "' in the face on line " + std::to_string(lineNo));
+    }
+  }
 }
 
 // PLY headers are checked before CGAL reads them: CGAL's reader adds a "property" to the last
@@ -100,7 +138,8 @@ void checkPlyHeader(const std::string& path, uintmax_t fileBytes) {
   std::string line;
   size_t lineNo = 0;
   bool elements = false;
-  double total = 0.0;  // elements claimed
+  std::string element;  // the current one
+  double total = 0.0;   // elements claimed
   while (std::getline(f, line)) {
     ++lineNo;
     if (!line.empty() && line.back() == '\r') line.pop_back();
@@ -128,6 +167,15 @@ void checkPlyHeader(const std::string& path, uintmax_t fileBytes) {
     }
     if (keyword == "property" && !elements)
       throw Error(path, "malformed PLY header: a property before any element" + at);
+    // CGAL reads vertex coordinates as float or double only (another type: a null dereference).
+    if (keyword == "property" && element == "vertex") {
+      std::string type, name;
+      ls >> type >> name;
+      if ((name == "x" || name == "y" || name == "z") && type != "float" && type != "float32" &&
+          type != "double" && type != "float64")
+        throw Error(path, "malformed PLY header: vertex coordinate " + name + " has type '" + type +
+                              "' (expected float or double)" + at);
+    }
     if (keyword == "element") {
       std::string name, count;
       ls >> name >> count;
@@ -146,6 +194,7 @@ void checkPlyHeader(const std::string& path, uintmax_t fileBytes) {
                               at + " (limit " + std::to_string(kMaxFaces) + ")");
       total += n;
       elements = true;
+      element = name;
     }
   }
   throw Error(path, "truncated: PLY header without \"end_header\"");
