@@ -1,13 +1,24 @@
 #!/usr/bin/env bash
-# Builds the libFuzzer targets (clang, ASan + UBSan, fuzz/) in build-fuzz/ and runs each for
-# FUZZ_SECONDS seconds (default 45) from its committed seed corpus fuzz/corpus/<target>/.
+# Builds the libFuzzer targets (clang, ASan + UBSan, fuzz/) in build-fuzz/ and runs each from
+# its committed seed corpus fuzz/corpus/<target>/ for a fixed number of inputs with a fixed
+# seed (FUZZ_RUNS, default 100000; FUZZ_SEED, default 1), so that CI's run is the same run every
+# time: it passes or fails on the code, not on luck. FUZZ_SECONDS=N fuzzes for N seconds with
+# a random seed instead (for finding new bugs locally).
 # New interesting inputs go to build-fuzz/corpus/<target>/ (kept between runs, not committed).
 # Exits non-zero on the first crash, leak or timeout; the input is kept in
 # build-fuzz/crashes/<target>/ (see docs/fuzzing.md for turning it into a regression test).
 # FUZZ_TARGETS="scene asset" runs a subset.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-seconds=${FUZZ_SECONDS:-45}
+runs=${FUZZ_RUNS:-100000}
+seed=${FUZZ_SEED:-1}
+if [ -n "${FUZZ_SECONDS:-}" ]; then
+  budget=(-max_total_time="$FUZZ_SECONDS")
+  what="${FUZZ_SECONDS} s"
+else
+  budget=(-runs="$runs" -seed="$seed")
+  what="seed $seed"
+fi
 read -r -a targets <<<"${FUZZ_TARGETS:-scene recording asset mesh}"
 generator=()
 command -v ninja >/dev/null && generator=(-G Ninja)
@@ -19,14 +30,14 @@ for t in "${targets[@]}"; do
   mkdir -p "build-fuzz/corpus/$t" "build-fuzz/crashes/$t"
   log="build-fuzz/fuzz_$t.log"
   # -timeout: one input taking 10 s is a hang; -rss_limit_mb: an input may not need 2 GB.
-  if ! "build-fuzz/fuzz/fuzz_$t" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 \
+  if ! "build-fuzz/fuzz/fuzz_$t" "${budget[@]}" -timeout=10 -rss_limit_mb=2048 \
       -print_final_stats=1 -artifact_prefix="build-fuzz/crashes/$t/" \
       "build-fuzz/corpus/$t" "fuzz/corpus/$t" >"$log" 2>&1; then
     tail -n 60 "$log"
     echo "fuzz: $t FAILED (input in build-fuzz/crashes/$t/, log $log)" >&2
     exit 1
   fi
-  runs=$(grep -o 'stat::number_of_executed_units: *[0-9]*' "$log" | grep -o '[0-9]*$' || echo '?')
+  executed=$(grep -o 'stat::number_of_executed_units: *[0-9]*' "$log" | grep -o '[0-9]*$' || echo '?')
   cov=$(grep -o 'cov: [0-9]*' "$log" | tail -n 1 | grep -o '[0-9]*' || echo '?')
-  echo "fuzz: $t ok (${seconds} s, $runs inputs, coverage $cov edges)"
+  echo "fuzz: $t ok ($what, $executed inputs, coverage $cov edges)"
 done

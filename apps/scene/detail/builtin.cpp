@@ -241,7 +241,7 @@ json jenga() {
                 3.5);
   const JengaSetup j = jengaTower();
   s["bodies"] = j.bodies;
-  s["hands"] = {slimPushHand(j, 0.045, 3.0)};
+  s["hands"] = json::array({slimPushHand(j, 0.045, 3.0)});  // explicit: {x} may copy x
   s["checks"] = {{{"label", "the target block came 3.5 cm out"},
                   {"kind", "displacement"},
                   {"body", "target"},
@@ -283,7 +283,7 @@ json jengaTwoHands() {
                  pinchAt(3.0, 0.0, depth),
                  pinchAt(4.5, pull, depth),
                  pinchAt(5.0, pull, depth)}}};
-  s["hands"] = {slimPushHand(j, out, 2.9), left};
+  s["hands"] = json::array({slimPushHand(j, out, 2.9), left});
   s["checks"] = {
       {{"label", "the target block is out of the tower (moved 8 cm)"},
        {"kind", "displacement"},
