@@ -182,6 +182,15 @@ TEST(MeshInput, FuzzerFindingsAreRefusedWithAMessage) {
                                 "on line 6"),
             std::string::npos)
       << failure(uchar);
+  // A vertex count of 4.7e32 in the header used to be converted to an integer for the message.
+  const std::string nv = sourceDir() + "/tests/voxel/data/regression_off_huge_vertex_count.off";
+  EXPECT_NE(failure(nv).find("truncated: the header claims 4666666666666666"), std::string::npos)
+      << failure(nv);
+  // "12-19" in a face line: a stream reader takes -19 from it (a negative size_t index).
+  const std::string glued =
+      sourceDir() + "/tests/voxel/data/regression_off_glued_negative_index.off";
+  EXPECT_NE(failure(glued).find("negative number '-19' in the face on line 51"), std::string::npos)
+      << failure(glued);
   // The same checks, and the others of the PLY header, on written files.
   struct Case {
     const char* file;

@@ -17,6 +17,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -53,6 +54,14 @@ std::string lowerExtension(const std::string& path) {
   return ext;
 }
 
+// A count read as a double, as text, without converting it to an integer (a header's 4.7e32
+// does not fit one: found by the fuzzer).
+std::string countText(double x) {
+  char text[64];
+  std::snprintf(text, sizeof text, "%.0f", x);
+  return std::string(text);
+}
+
 // OFF headers state the counts: check them against the file size before CGAL allocates for
 // them, so a truncated or lying header gives a message instead of a huge allocation.
 void checkOffHeader(const std::string& path, uintmax_t fileBytes) {
@@ -83,14 +92,13 @@ void checkOffHeader(const std::string& path, uintmax_t fileBytes) {
   }
   if (nv < 0 || nf < 0) throw Error(path, "malformed OFF header (negative counts)");
   if (nf > static_cast<double>(kMaxFaces))
-    throw Error(path, "absurd size: the header claims " +
-                          std::to_string(static_cast<long long>(nf)) + " faces (limit " +
+    throw Error(path, "absurd size: the header claims " + countText(nf) + " faces (limit " +
                           std::to_string(kMaxFaces) + ")");
   // Every vertex takes at least 6 bytes ("0 0 0\n"), every face 8 ("3 0 1 2\n").
   if (6.0 * nv + 8.0 * nf > static_cast<double>(fileBytes) + 16.0)
-    throw Error(path, "truncated: the header claims " + std::to_string(static_cast<long long>(nv)) +
-                          " vertices and " + std::to_string(static_cast<long long>(nf)) +
-                          " faces but the file has only " + std::to_string(fileBytes) + " bytes");
+    throw Error(path, "truncated: the header claims " + countText(nv) + " vertices and " +
+                          countText(nf) + " faces but the file has only " +
+                          std::to_string(fileBytes) + " bytes");
   // CGAL reads face indices as doubles and converts them to size_t: a huge or non-finite
   // "index" is undefined behaviour there (found by fuzz/fuzz_mesh.cpp). No valid number in an
   // OFF body is that large (indices are below the vertex count, coordinates beyond 1e4 m are
@@ -104,20 +112,29 @@ void checkOffHeader(const std::string& path, uintmax_t fileBytes) {
     ++lineNo;
     const auto hash = line.find('#');
     if (hash != std::string::npos) line.erase(hash);
-    std::istringstream ls(line);
-    std::string word;
     const bool faceLine = lineNo > headerLines &&
                           line.find_first_not_of(" \t\r") != std::string::npos &&
                           ++dataLines > static_cast<size_t>(nv);
+    // Numbers as a stream reader finds them: "12-19" is 12 and -19 to CGAL (found by the
+    // fuzzer), so every number strtod can start anywhere in the line is checked.
     bool first = true;
-    while (ls >> word) {
-      if (faceLine && first && std::strtod(word.c_str(), nullptr) > static_cast<double>(fileBytes))
+    for (const char* at = line.c_str(); *at != '\0';) {
+      if (std::isspace(static_cast<unsigned char>(*at))) {
+        ++at;
+        continue;
+      }
+      char* end = nullptr;
+      const double v = std::strtod(at, &end);
+      if (end == at) {
+        ++at;
+        continue;
+      }
+      const std::string word(at, static_cast<size_t>(end - at));
+      at = end;
+      if (faceLine && first && v > static_cast<double>(fileBytes))
         throw Error(path, "truncated: the face on line " + std::to_string(lineNo) + " claims " +
                               word + " vertices");
       first = false;
-      char* end = nullptr;
-      const double v = std::strtod(word.c_str(), &end);
-      if (end == word.c_str() || *end != '\0') continue;
       if (!std::isfinite(v))
         throw Error(path, "non-finite number on line " + std::to_string(lineNo));
       if (std::abs(v) > 1e15)
@@ -154,9 +171,9 @@ void checkPlyHeader(const std::string& path, uintmax_t fileBytes) {
     if (keyword == "end_header") {
       // Every element takes at least one byte (ASCII: a digit; binary: one property).
       if (total > static_cast<double>(fileBytes))
-        throw Error(
-            path, "truncated: the header claims " + std::to_string(static_cast<long long>(total)) +
-                      " elements but the file has only " + std::to_string(fileBytes) + " bytes");
+        throw Error(path, "truncated: the header claims " + countText(total) +
+                              " elements but the file has only " + std::to_string(fileBytes) +
+                              " bytes");
       return;
     }
     if (keyword == "format") {
