@@ -19,8 +19,16 @@ class SweepBroadphase {
                  std::vector<std::pair<uint32_t, uint32_t>>& pairs);
 
  private:
+  // A proxy as the sweep reads it, in sweep order: the inner loop walks memory in a line.
+  struct Swept {
+    double start, end;              // along the sweep axis
+    double min1, max1, min2, max2;  // along the other two axes
+    uint32_t proxy;
+    uint8_t active;
+  };
   std::vector<uint32_t> order_;  // kept between calls: nearly sorted next time
   std::vector<double> keys_;
+  std::vector<Swept> swept_;
 };
 
 }  // namespace grip

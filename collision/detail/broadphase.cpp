@@ -42,16 +42,21 @@ void SweepBroadphase::findPairs(const std::vector<Aabb>& boxes, const std::vecto
     order_[j] = v;
   }
 
+  const int axis1 = (axis + 1) % 3, axis2 = (axis + 2) % 3;
+  swept_.resize(n);
   for (uint32_t i = 0; i < n; ++i) {
-    const uint32_t a = order_[i];
-    const Aabb& ba = boxes[a];
-    const double end = ba.max[axis];
+    const Aabb& b = boxes[order_[i]];
+    swept_[i] = {b.min[axis],  b.max[axis],  b.min[axis1], b.max[axis1],
+                 b.min[axis2], b.max[axis2], order_[i],    active[order_[i]]};
+  }
+  for (uint32_t i = 0; i < n; ++i) {
+    const Swept& a = swept_[i];
     for (uint32_t j = i + 1; j < n; ++j) {
-      const uint32_t b = order_[j];
-      if (keys_[b] > end) break;
-      if (!active[a] && !active[b]) continue;
-      if (!ba.overlaps(boxes[b])) continue;
-      pairs.emplace_back(std::min(a, b), std::max(a, b));
+      const Swept& b = swept_[j];
+      if (b.start > a.end) break;
+      if (!(a.active | b.active)) continue;
+      if (a.min1 > b.max1 || b.min1 > a.max1 || a.min2 > b.max2 || b.min2 > a.max2) continue;
+      pairs.emplace_back(std::min(a.proxy, b.proxy), std::max(a.proxy, b.proxy));
     }
   }
   std::sort(pairs.begin(), pairs.end());

@@ -47,7 +47,7 @@ struct SolveContext {
 };
 
 // Which bodies a solve may move. Shock propagation freezes the body nearer the ground.
-enum class Moves { Both, OnlyA, OnlyB };
+enum class Moves : uint8_t { Both = 0, OnlyA = 1, OnlyB = 2 };  // as SolverManifold::shockMoves
 
 inline double rowVelocity(const SolverBody& a, const SolverBody& b, const SolverRow& r) {
   return r.lin.dot(b.v - a.v) + r.angB.dot(b.w) - r.angA.dot(a.w);
@@ -114,8 +114,11 @@ void solveFriction(SolverManifold& m, SolverBody& A, SolverBody& B, const SolveC
     bias1 = ctx.anchorSoft.biasRate * e1, bias2 = ctx.anchorSoft.biasRate * e2;
   }
   const double scale = useBias && !m.sliding && m.anchored ? ctx.anchorSoft.massScale : 1.0;
-  double n1 = old1 - scale * rowMass(A, B, t1, moves) * (rowVelocity(A, B, t1) + bias1);
-  double n2 = old2 - scale * rowMass(A, B, t2, moves) * (rowVelocity(A, B, t2) + bias2);
+  const bool both = moves == Moves::Both;
+  const double mass1 = both ? t1.mass : m.shockFrictionMass[0];
+  const double mass2 = both ? t2.mass : m.shockFrictionMass[1];
+  double n1 = old1 - scale * mass1 * (rowVelocity(A, B, t1) + bias1);
+  double n2 = old2 - scale * mass2 * (rowVelocity(A, B, t2) + bias2);
   const double limit = mu * normal;
   const double len2 = n1 * n1 + n2 * n2;
   const bool capped = len2 > limit * limit;
@@ -134,11 +137,207 @@ void solveFriction(SolverManifold& m, SolverBody& A, SolverBody& B, const SolveC
   }
   if (m.count > 1) {
     const double oldT = twist.impulse, maxT = mu * normal * m.twistRadius;
-    const double nt =
-        std::clamp(oldT - rowMass(A, B, twist, moves) * rowVelocity(A, B, twist), -maxT, maxT);
+    const double massT = both ? twist.mass : m.shockFrictionMass[2];
+    const double nt = std::clamp(oldT - massT * rowVelocity(A, B, twist), -maxT, maxT);
     twist.impulse = nt;
     applyRow(A, B, twist, nt - oldT, moves);
   }
+}
+
+// The coupling of a patch's three basis rows (centre normal, rotation about t1, about t2)
+// through the bodies that move, inverted; false if it is not positive definite.
+bool invertBlock(const SolverManifold& m, const SolverBody& a, const SolverBody& b, Moves moves,
+                 double (&out)[3][3]) {
+  const Vec3* t[2] = {&m.friction[0].lin, &m.friction[1].lin};
+  Mat3 k = Mat3::Zero();
+  const bool useA = moves != Moves::OnlyB, useB = moves != Moves::OnlyA;
+  if (useA) k(0, 0) += a.invMass + m.centre.angA.dot(m.centre.dwA);
+  if (useB) k(0, 0) += b.invMass + m.centre.angB.dot(m.centre.dwB);
+  for (int i = 0; i < 2; ++i) {
+    if (useA) k(0, i + 1) += m.centre.angA.dot(m.spinA[i]);
+    if (useB) k(0, i + 1) += m.centre.angB.dot(m.spinB[i]);
+    k(i + 1, 0) = k(0, i + 1);
+    for (int j = 0; j < 2; ++j) {
+      if (useA) k(i + 1, j + 1) += t[i]->dot(m.spinA[j]);
+      if (useB) k(i + 1, j + 1) += t[i]->dot(m.spinB[j]);
+    }
+  }
+  const double det = k.determinant();
+  if (!(det > 1e-12 * std::pow(k.trace(), 3))) return false;
+  const Mat3 inv = k.inverse();
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) out[i][j] = inv(i, j);
+  return true;
+}
+
+// Prepares the exact patch solve of a manifold of 3 or 4 points around `centre`: each
+// point's normal velocity is g0 + alpha_k g1 + beta_k g2 in the basis rows' velocities g,
+// with alpha_k, beta_k the components of d_k x n (d_k: the point from the centre) along the
+// tangents.
+void prepareBlock(SolverManifold& m, const SolverBody& a, const SolverBody& b, const Vec3& rA,
+                  const Vec3& rB, const Vec3 (&points)[4], const Vec3& centre) {
+  m.block = false;
+  if (m.count < 3) return;
+  const Vec3& n = m.normal;
+  const Vec3 &t1 = m.friction[0].lin, &t2 = m.friction[1].lin;
+  double alpha[4], beta[4];
+  double saa = 0.0, sab = 0.0, sbb = 0.0;
+  for (int k = 0; k < m.count; ++k) {
+    const Vec3 arm = (points[k] - centre).cross(n);
+    alpha[k] = arm.dot(t1), beta[k] = arm.dot(t2);
+    saa += alpha[k] * alpha[k], sab += alpha[k] * beta[k], sbb += beta[k] * beta[k];
+  }
+  // Points near a line leave a rotation unconstrained: no exact patch solve then.
+  const double det = saa * sbb - sab * sab;
+  if (!(det > 1e-4 * (saa + sbb) * (saa + sbb))) return;
+  m.centre = makeRow(a, b, n, rA.cross(n), rB.cross(n));
+  for (int i = 0; i < 2; ++i) {
+    const Vec3& t = m.friction[i].lin;
+    m.spinA[i] = a.invI * t, m.spinB[i] = b.invI * t;
+  }
+  if (!invertBlock(m, a, b, Moves::Both, m.blockInv)) return;
+  // fit = (C^T C)^-1 C^T for C_k = (1, alpha_k, beta_k); the centre makes sum alpha = 0.
+  for (int k = 0; k < m.count; ++k) {
+    m.fit[0][k] = 1.0 / m.count;
+    m.fit[1][k] = (sbb * alpha[k] - sab * beta[k]) / det;
+    m.fit[2][k] = (saa * beta[k] - sab * alpha[k]) / det;
+    m.slack[k] = 0.0;
+  }
+  if (m.count == 4) {  // the null vector of C^T: cofactors of C
+    for (int k = 0; k < 4; ++k) {
+      Mat3 minor;
+      for (int r = 0, row = 0; r < 4; ++r) {
+        if (r == k) continue;
+        minor.row(row++) << 1.0, alpha[r], beta[r];
+      }
+      m.slack[k] = (k % 2 ? -1.0 : 1.0) * minor.determinant();
+    }
+    const double len = std::sqrt(m.slack[0] * m.slack[0] + m.slack[1] * m.slack[1] +
+                                 m.slack[2] * m.slack[2] + m.slack[3] * m.slack[3]);
+    if (!(len > 0.0)) return;
+    for (double& x : m.slack) x /= len;
+  }
+  m.block = true;
+}
+
+// The exact solve of a patch whose rows are all rigid with targets `bias`: the basis velocities
+// are driven to the least-squares fit of the targets, and the new total impulses are spread over
+// the points (the least change, shifted along the slack if a point would pull). False, with
+// nothing applied, if no spread keeps every point pushing.
+bool solveNormalBlock(SolverManifold& m, SolverBody& A, SolverBody& B, const double* bias,
+                      Moves moves) {
+  const Vec3 spin = B.w - A.w;
+  const double g[3] = {rowVelocity(A, B, m.centre), m.friction[0].lin.dot(spin),
+                       m.friction[1].lin.dot(spin)};
+  double dg[3];
+  for (int i = 0; i < 3; ++i) {
+    double target = 0.0;
+    for (int k = 0; k < m.count; ++k) target -= m.fit[i][k] * bias[k];
+    dg[i] = target - g[i];
+  }
+  const double(*inv)[3] = moves == Moves::Both ? m.blockInv : m.shockBlockInv;
+  double dT[3];
+  for (int i = 0; i < 3; ++i) dT[i] = inv[i][0] * dg[0] + inv[i][1] * dg[1] + inv[i][2] * dg[2];
+  double lambda[4], along = 0.0;
+  for (int k = 0; k < m.count; ++k) {
+    lambda[k] =
+        m.p[k].normal.impulse + m.fit[0][k] * dT[0] + m.fit[1][k] * dT[1] + m.fit[2][k] * dT[2];
+    along += lambda[k] * m.slack[k];
+  }
+  // The even spread (least norm) of the new totals, unless a point would pull.
+  double lo = -std::numeric_limits<double>::infinity(), hi = -lo;
+  bool pulls = false;
+  for (int k = 0; k < m.count; ++k) {
+    lambda[k] -= along * m.slack[k];
+    pulls |= lambda[k] < 0.0;
+    // lambda_k + t slack_k >= 0 bounds the shift t.
+    if (m.slack[k] > 0.0) lo = std::max(lo, -lambda[k] / m.slack[k]);
+    if (m.slack[k] < 0.0) hi = std::min(hi, -lambda[k] / m.slack[k]);
+    if (m.slack[k] == 0.0 && lambda[k] < 0.0) hi = lo - 1.0;
+  }
+  if (pulls) {
+    if (m.count < 4 || lo > hi) return false;
+    const double t = std::clamp(0.0, lo, hi);
+    for (int k = 0; k < m.count; ++k) lambda[k] = std::max(lambda[k] + t * m.slack[k], 0.0);
+  }
+  for (int k = 0; k < m.count; ++k) {
+    SolverPoint& p = m.p[k];
+    p.maxNormalImpulse = std::max(p.maxNormalImpulse, lambda[k] - p.normal.impulse);
+    p.normal.impulse = lambda[k];
+  }
+  if (moves != Moves::OnlyB) {
+    A.v -= (A.invMass * dT[0]) * m.normal;
+    A.w -= dT[0] * m.centre.dwA + dT[1] * m.spinA[0] + dT[2] * m.spinA[1];
+  }
+  if (moves != Moves::OnlyA) {
+    B.v += (B.invMass * dT[0]) * m.normal;
+    B.w += dT[0] * m.centre.dwB + dT[1] * m.spinB[0] + dT[2] * m.spinB[1];
+  }
+  return true;
+}
+
+// Solves a x = r for the leading n x n block of a (n <= 3) by Cramer's rule; false if a is
+// too close to singular.
+bool solveSmall(const double (&a)[3][3], const double* r, int n, double* x) {
+  if (n == 1) {
+    if (!(a[0][0] > 0.0)) return false;
+    x[0] = r[0] / a[0][0];
+    return true;
+  }
+  if (n == 2) {
+    const double det = a[0][0] * a[1][1] - a[0][1] * a[1][0];
+    if (!(det > 1e-9 * (a[0][0] + a[1][1]) * (a[0][0] + a[1][1]))) return false;
+    x[0] = (r[0] * a[1][1] - a[0][1] * r[1]) / det;
+    x[1] = (a[0][0] * r[1] - r[0] * a[1][0]) / det;
+    return true;
+  }
+  const double c00 = a[1][1] * a[2][2] - a[1][2] * a[2][1];
+  const double c01 = a[1][2] * a[2][0] - a[1][0] * a[2][2];
+  const double c02 = a[1][0] * a[2][1] - a[1][1] * a[2][0];
+  const double det = a[0][0] * c00 + a[0][1] * c01 + a[0][2] * c02;
+  const double trace = a[0][0] + a[1][1] + a[2][2];
+  if (!(det > 1e-9 * trace * trace * trace)) return false;
+  const Mat3 inv =
+      Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(&a[0][0]).inverse();
+  for (int i = 0; i < 3; ++i) x[i] = inv(i, 0) * r[0] + inv(i, 1) * r[1] + inv(i, 2) * r[2];
+  return true;
+}
+
+// The normal impulses of a manifold's rigid rows solved exactly for a guessed set of pushing
+// points (those pushing already or closing faster than allowed; at most three, as four points
+// of a face go to the patch solve): the others let go, the pushing ones solved together. True,
+// with `delta` set, if the guess holds: every pushing point still pushes, and no let-go point
+// closes faster than its bias allows.
+bool solveNormalActive(const SolverManifold& m, const double (*K)[4], const double* vn,
+                       const double* bias, double* delta) {
+  int active[4], na = 0;
+  for (int k = 0; k < m.count; ++k) {
+    delta[k] = 0.0;
+    if (m.p[k].normal.impulse > 0.0 || vn[k] + bias[k] < 0.0)
+      active[na++] = k;
+    else
+      delta[k] = -m.p[k].normal.impulse;
+  }
+  if (na == 4) return false;
+  double a[3][3], r[3], x[3];
+  for (int i = 0; i < na; ++i) {
+    const int k = active[i];
+    r[i] = -(vn[k] + bias[k]);
+    for (int j = 0; j < m.count; ++j) r[i] -= K[k][j] * delta[j];
+    for (int j = 0; j < na; ++j) a[i][j] = K[k][active[j]];
+  }
+  if (na > 0 && !solveSmall(a, r, na, x)) return false;
+  for (int i = 0; i < na; ++i) {
+    if (m.p[active[i]].normal.impulse + x[i] < 0.0) return false;
+    delta[active[i]] = x[i];
+  }
+  for (int k = 0; k < m.count; ++k) {
+    if (delta[k] != -m.p[k].normal.impulse || m.p[k].normal.impulse == 0.0) continue;
+    double v = vn[k] + bias[k];
+    for (int j = 0; j < m.count; ++j) v += K[k][j] * delta[j];
+    if (v < -1e-9) return false;
+  }
+  return true;
 }
 
 // Non-penetration. The points of one manifold push on the same two bodies, so they are
@@ -148,15 +347,18 @@ void solveFriction(SolverManifold& m, SolverBody& A, SolverBody& B, const SolveC
 void solveNormal(SolverManifold& m, SolverBody& A, SolverBody& B, const SolveContext& ctx,
                  bool useBias, Moves moves) {
   const Softness& soft = (m.a == 0 || m.b == 0) ? ctx.staticSoft : ctx.soft;
-  const Vec3 dp = B.dp - A.dp;
+  const bool both = moves == Moves::Both;
+  const double(*K)[4] = both ? m.K : m.shockK;
+  // Every normal row shares the linear part n: its share of velocity and displacement once.
+  const Vec3& n = m.normal;
+  const double linearVelocity = n.dot(B.v - A.v), linearShift = n.dot(B.dp - A.dp);
   double vn[4], bias[4], massScale[4], impulseScale[4], mass[4], delta[4] = {0, 0, 0, 0};
-  double oneSided[4][4];
-  const double(*K)[4] = moves == Moves::Both ? m.K : oneSided;
+  bool rigid = true, idle = true;
+  int speculative = 0;
   for (int k = 0; k < m.count; ++k) {
     const SolverRow& r = m.p[k].normal;
     // Current separation, linearised in the bodies' motion since the step began.
-    const double s =
-        m.p[k].separation + r.lin.dot(dp) + r.angB.dot(B.dtheta) - r.angA.dot(A.dtheta);
+    const double s = m.p[k].separation + linearShift + r.angB.dot(B.dtheta) - r.angA.dot(A.dtheta);
     bias[k] = 0.0, massScale[k] = 1.0, impulseScale[k] = 0.0;
     if (s > 0.0) {
       bias[k] = s * ctx.invH;  // speculative: may close the gap, no more
@@ -166,16 +368,23 @@ void solveNormal(SolverManifold& m, SolverBody& A, SolverBody& B, const SolveCon
       massScale[k] = soft.massScale;
       impulseScale[k] = soft.impulseScale;
     }
-    vn[k] = rowVelocity(A, B, r);
-    mass[k] = rowMass(A, B, r, moves);
-    if (moves == Moves::Both) continue;
-    for (int j = 0; j < m.count; ++j) {
-      const SolverRow& q = m.p[j].normal;
-      oneSided[k][j] =
-          moves == Moves::OnlyA ? A.invMass + q.angA.dot(r.dwA) : B.invMass + q.angB.dot(r.dwB);
-    }
+    vn[k] = linearVelocity + r.angB.dot(B.w) - r.angA.dot(A.w);
+    mass[k] = both ? r.mass : m.shockNormalMass[k];
+    rigid &= massScale[k] == 1.0;
+    speculative += s > 0.0;
+    idle &= m.p[k].normal.impulse == 0.0 && vn[k] + bias[k] >= 0.0;
   }
-  const int sweeps = m.count > 1 ? ctx.manifoldSweeps : 1;
+  if (idle) return;  // nothing pushes and nothing closes faster than allowed
+  // Rigid rows are solved exactly where a guess of the pushing points holds: a face's four
+  // points in the patch basis, fewer by a small dense solve. Else Gauss-Seidel sweeps.
+  bool exact = false;
+  if (rigid && !m.direct) {
+    if (m.block && (speculative == 0 || speculative == m.count) &&
+        solveNormalBlock(m, A, B, bias, moves))
+      return;
+    exact = solveNormalActive(m, K, vn, bias, delta);
+  }
+  const int sweeps = exact ? 0 : m.count > 1 ? ctx.manifoldSweeps : 1;
   for (int it = 0; it < sweeps; ++it) {
     for (int k = 0; k < m.count; ++k) {
       double v = vn[k];
@@ -185,12 +394,18 @@ void solveNormal(SolverManifold& m, SolverBody& A, SolverBody& B, const SolveCon
       delta[k] = std::max(total + impulse, 0.0) - m.p[k].normal.impulse;
     }
   }
+  // Apply the four impulses as one: their sum along n and their angular effects.
+  double sum = 0.0;
+  Vec3 dwA = Vec3::Zero(), dwB = Vec3::Zero();
   for (int k = 0; k < m.count; ++k) {
     SolverPoint& p = m.p[k];
     p.normal.impulse += delta[k];
     p.maxNormalImpulse = std::max(p.maxNormalImpulse, delta[k]);
-    applyRow(A, B, p.normal, delta[k], moves);
+    sum += delta[k];
+    dwA += delta[k] * p.normal.dwA, dwB += delta[k] * p.normal.dwB;
   }
+  if (moves != Moves::OnlyB) A.v -= (A.invMass * sum) * n, A.w -= dwA;
+  if (moves != Moves::OnlyA) B.v += (B.invMass * sum) * n, B.w += dwB;
 }
 
 // Friction first, against the current normal impulse; non-penetration last, so it has the
@@ -284,7 +499,7 @@ void solveIslandNormals(std::vector<SolverManifold>& manifolds, std::vector<Solv
       }
       // A face's four points constrain only three motions: the tiny regularisation picks the
       // even split among the equivalent impulse sets.
-      Ka.diagonal().array() += 1e-9 * trace / na;
+      Ka.diagonal().array() += 1e-6 * trace / na;
       const VecN da = Ka.ldlt().solve(ra);
       if (!da.allFinite()) return;
       for (int x = 0; x < na; ++x) delta[idx[x]] = da[x];
@@ -377,10 +592,7 @@ void World::Impl::solve(double dt) {
       for (int i : shockOrder) {
         if (relaxPasses[i] != r + 1) continue;
         SolverManifold& m = solverManifolds[i];
-        const int la = levels[m.a], lb = levels[m.b];
-        Moves moves = la < lb ? Moves::OnlyB : lb < la ? Moves::OnlyA : Moves::Both;
-        if (solvedDirectly[i]) moves = Moves::Both;  // no shock: the direct solve follows
-        solveManifold(m, solverBodies, ctx, false, moves);
+        solveManifold(m, solverBodies, ctx, false, static_cast<Moves>(m.shockMoves));
       }
     }
     solveDirectIslands(ctx, false);
@@ -440,6 +652,9 @@ void World::Impl::prepareContacts() {
     m.friction[1] = makeRow(sa, sb, t2, rA.cross(t2), rB.cross(t2));
     m.friction[2] = makeRow(sa, sb, Vec3::Zero(), n, n);
     for (int r = 0; r < 3; ++r) m.friction[r].impulse = c.friction[r];
+    Vec3 patch[4];
+    for (int k = 0; k < m.count; ++k) patch[k] = c.m.points[k].position;
+    prepareBlock(m, sa, sb, rA, rB, patch, centre);
     // The anchor: kept while the patch sticks and stays within the slop of it, else reset to
     // the patch centre (a new or sliding patch starts from where it is).
     if (c.anchored && !c.sliding) {
@@ -685,6 +900,7 @@ void World::Impl::computeLevels() {
     solverManifolds[i].anchored = false;
   }
   std::sort(tagged.begin(), tagged.end());
+  for (size_t i = 0; i < solverManifolds.size(); ++i) prepareShock(i);
   stats.directIslands = 0;
   for (size_t k = 0; k < tagged.size(); ++k) {
     directManifolds.push_back(tagged[k].second);
@@ -693,6 +909,29 @@ void World::Impl::computeLevels() {
       ++stats.directIslands;
     }
   }
+}
+
+// The shock pass of a manifold moves only the body farther from the ground (none is frozen
+// where both sit at one level, or where the island's normals are solved directly after).
+void World::Impl::prepareShock(size_t i) {
+  SolverManifold& m = solverManifolds[i];
+  const int la = levels[m.a], lb = levels[m.b];
+  Moves moves = la < lb ? Moves::OnlyB : lb < la ? Moves::OnlyA : Moves::Both;
+  if (solvedDirectly[i]) moves = Moves::Both, m.block = false, m.direct = true;
+  m.shockMoves = static_cast<uint8_t>(moves);
+  if (moves == Moves::Both) return;
+  const SolverBody &A = solverBodies[m.a], &B = solverBodies[m.b];
+  for (int k = 0; k < m.count; ++k) {
+    const SolverRow& r = m.p[k].normal;
+    m.shockNormalMass[k] = rowMass(A, B, r, moves);
+    for (int j = 0; j < m.count; ++j) {
+      const SolverRow& q = m.p[j].normal;
+      m.shockK[k][j] =
+          moves == Moves::OnlyA ? A.invMass + q.angA.dot(r.dwA) : B.invMass + q.angB.dot(r.dwB);
+    }
+  }
+  for (int r = 0; r < 3; ++r) m.shockFrictionMass[r] = rowMass(A, B, m.friction[r], moves);
+  if (m.block && !invertBlock(m, A, B, moves, m.shockBlockInv)) m.block = false;
 }
 
 }  // namespace grip

@@ -118,6 +118,22 @@ struct SolverManifold {
   double anchorError[2] = {0.0, 0.0};  // tangential drift from the anchor at the step's start
   bool anchored = true;                // whether the drift is pulled back (static friction)
   double K[4][4] = {};                 // normal coupling between the points: K_ij = J_i M^-1 J_j^T
+  // Shock propagation moves only the body farther from the ground (which one is fixed for
+  // the step): its coupling and row masses, computed once per step.
+  uint8_t shockMoves = 0;  // 0 both, 1 only a, 2 only b
+  double shockK[4][4] = {};
+  double shockNormalMass[4] = {}, shockFrictionMass[3] = {};
+  // A patch of 3 or 4 points moves the bodies in three ways only: along n at the centre and
+  // by relative rotation about t1 and t2. Its rigid rows are solved exactly in that basis
+  // (solveNormalBlock); `block` is false where the points are too close to a line.
+  bool block = false;
+  bool direct = false;         // its island's normals are solved directly (computeLevels)
+  SolverRow centre;            // the normal row at the patch centre
+  Vec3 spinA[2], spinB[2];     // I^-1 t1, I^-1 t2 of each body (the rotation rows' dw)
+  double fit[3][4] = {};       // basis velocities from point velocities (least squares)
+  double slack[4] = {};        // point impulses that add up to no force or moment (4 points)
+  double blockInv[3][3] = {};  // inverse of the basis rows' coupling
+  double shockBlockInv[3][3] = {};
 };
 
 struct SensorPair {
@@ -175,6 +191,7 @@ struct World::Impl {
   void solve(double dt);
   void prepareContacts();
   void computeLevels();
+  void prepareShock(size_t manifold);
   void projectPositions();
   void integrateVelocities(double h);
   void integratePositions(double h);
