@@ -51,7 +51,7 @@ TEST(ContactLine, AFingertipAlongANarrowFaceIsAnchoredAtTheMiddleOfTheLine) {
   // spans the whole 15 mm face; its middle is the face's mid-height (an edge is 7.5 mm away).
   for (double ax : {-0.4, -0.2, 0.0, 0.2, 0.4}) {
     for (double ay : {-0.3, 0.0, 0.3}) {
-      EXPECT_LT(std::abs(anchorHeight(tilt(ax, ay))), 1.5e-3) << "tilt " << ax << ", " << ay;
+      EXPECT_LT(std::abs(anchorHeight(tilt(ax, ay))), 0.3e-3) << "tilt " << ax << ", " << ay;
     }
   }
 }
