@@ -3,6 +3,8 @@
 //   place contact points -> friction forces (or the kinematic baseline) -> visual hands.
 #include "interaction/interaction.hpp"
 
+#include "collision/sdf.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -102,6 +104,72 @@ double maxBoneJump(const HandPose& a, const HandPose& b) {
   return m;
 }
 
+// Where along a capsule bone's axis (-halfHeight..halfHeight) the middle of its deepest part
+// is: `samples` axis points, the middle of those within `band` of the deepest. With `sameFace`
+// only points whose nearest surface faces the way the deepest one's does (within 5 degrees)
+// count: not a neighbouring facet of a prism, nor past an edge; and the two ends of that part
+// are then found by bisection between samples, so that the middle does not move in steps of
+// the sample spacing (half a step off the middle, a 5 N pinch already twists a light block).
+// NaN if no distance is finite.
+double middleOfDeepest(const World& w, BodyId body, const Shape& bone, const Transform& pose,
+                       int samples, double band, bool sameFace = false) {
+  constexpr int kMaxAxisSamples = 17;
+  const Vec3 axis = pose.rotate(Vec3::UnitY());
+  // Without `sameFace` only distances are needed: a body with a distance field answers them from
+  // the field, without the Newton projection and the normal of closestPoint (the same number:
+  // closestPoint's distance is the field's). It was most of axe_tower's time.
+  const SignedDistanceField* field = sameFace ? nullptr : w.shape(body).sdf();
+  const Transform bodyPose = w.pose(body);
+  std::array<double, kMaxAxisSamples> sep{}, along{};
+  std::array<Vec3, kMaxAxisSamples> normal;
+  normal.fill(Vec3::Zero());
+  int deepest = -1;
+  for (int k = 0; k < samples; ++k) {
+    along[k] = bone.halfHeight() * (2.0 * k / (samples - 1) - 1.0);
+    const Vec3 x = pose.p + along[k] * axis;
+    if (field) {
+      sep[k] = field->distance(bodyPose.applyInverse(x)) - bone.radius();
+    } else {
+      const SurfacePoint sp = w.closestPoint(body, x);
+      sep[k] = sp.distance - bone.radius();
+      normal[k] = sp.normal;
+    }
+    if (std::isfinite(sep[k]) && (deepest < 0 || sep[k] < sep[deepest])) deepest = k;
+  }
+  if (deepest < 0) return std::numeric_limits<double>::quiet_NaN();
+  const double minAgreement = std::cos(5.0 * kPi / 180.0);
+  const double limit = sep[deepest] + band;
+  if (!sameFace) {
+    double y = 0.0;
+    int count = 0;
+    for (int k = 0; k < samples; ++k) {
+      if (sep[k] <= limit) y += along[k], ++count;
+    }
+    return y / count;
+  }
+  auto counts = [&](double s, const Vec3& n) {
+    return s <= limit && n.dot(normal[deepest]) >= minAgreement;
+  };
+  auto countsAt = [&](double y) {
+    const SurfacePoint sp = w.closestPoint(body, pose.p + y * axis);
+    return counts(sp.distance - bone.radius(), sp.normal);
+  };
+  int lo = deepest, hi = deepest;
+  while (lo > 0 && counts(sep[lo - 1], normal[lo - 1])) --lo;
+  while (hi + 1 < samples && counts(sep[hi + 1], normal[hi + 1])) ++hi;
+  // Each end lies between its last counting sample and the next one: 8 halvings.
+  auto bisect = [&](double in, double out) {
+    for (int i = 0; i < 8; ++i) {
+      const double mid = 0.5 * (in + out);
+      (countsAt(mid) ? in : out) = mid;
+    }
+    return in;
+  };
+  const double yLo = lo > 0 ? bisect(along[lo], along[lo - 1]) : along[lo];
+  const double yHi = hi + 1 < samples ? bisect(along[hi], along[hi + 1]) : along[hi];
+  return 0.5 * (yLo + yHi);
+}
+
 }  // namespace
 
 struct Interaction::Impl {
@@ -180,6 +248,8 @@ struct Interaction::Impl {
   void findContacts(const World& w);
   void refreshDynamicBodies(const World& w);
   bool keepPressingContact(uint32_t hand, int bone, double reach);
+  void centreOnContactLine(const World& w, BodyId body, const Shape& bone, const Transform& pose,
+                           const Vec3& normal, Vec3& point) const;
   void refineOnDistanceField(const World& w, BodyId body, const Shape& bone, const Transform& pose,
                              Vec3& point, double& separation, Vec3& normal) const;
   void placeContactPoints(const World& w);
@@ -334,6 +404,8 @@ void Interaction::Impl::findContacts(const World& w) {
         if (useClosestPoint(w, body)) {
           refineOnDistanceField(w, body, *h.shapes.bones[bone], pose, nearPoint, separation,
                                 normal);
+        } else if (nearCount == 1) {
+          centreOnContactLine(w, body, *h.shapes.bones[bone], pose, normal, nearPoint);
         }
         auto it = std::find_if(contacts.begin(), contacts.end(), [&](const Contact& c) {
           return c.hand == hi && c.bone == bone && c.body == body;
@@ -379,27 +451,11 @@ void Interaction::Impl::refineOnDistanceField(const World& w, BodyId body, const
                                               const Transform& pose, Vec3& point,
                                               double& separation, Vec3& normal) const {
   if (bone.type() != ShapeType::Capsule) return;
-  constexpr int kAxisSamples = 9;
-  const Vec3 axis = pose.rotate(Vec3::UnitY());
-  std::array<double, kAxisSamples> sep{};
-  double deepest = std::numeric_limits<double>::infinity();
-  for (int k = 0; k < kAxisSamples; ++k) {
-    const double y = bone.halfHeight() * (2.0 * k / (kAxisSamples - 1) - 1.0);
-    sep[k] = w.closestPoint(body, pose.p + y * axis).distance - bone.radius();
-    if (std::isfinite(sep[k])) deepest = std::min(deepest, sep[k]);
-  }
-  if (!std::isfinite(deepest)) return;
   // A bone lying along a face is about equally deep along its length: take the middle of the
   // samples within 0.1 mm of the deepest, as for the manifold points.
-  double y = 0.0;
-  int count = 0;
-  for (int k = 0; k < kAxisSamples; ++k) {
-    if (sep[k] <= deepest + 1e-4) {
-      y += bone.halfHeight() * (2.0 * k / (kAxisSamples - 1) - 1.0);
-      ++count;
-    }
-  }
-  const Vec3 x = pose.p + (y / count) * axis;
+  const double y = middleOfDeepest(w, body, bone, pose, 9, 1e-4);
+  if (!std::isfinite(y)) return;
+  const Vec3 x = pose.p + y * pose.rotate(Vec3::UnitY());
   const SurfacePoint sp = w.closestPoint(body, x);
   if (!std::isfinite(sp.distance) || !isFinite(sp.normal)) return;
   // The bone's surface point toward the body (x - r n, also right when x is inside) and the
@@ -407,6 +463,24 @@ void Interaction::Impl::refineOnDistanceField(const World& w, BodyId body, const
   point = 0.5 * (x - bone.radius() * sp.normal + sp.point);
   separation = sp.distance - bone.radius();
   normal = -sp.normal;
+}
+
+// The narrowphase reports a capsule lying (nearly) flat on a box face sometimes with a single
+// point, GJK's closest pair, which is an arbitrary point of the line of contact: often its end
+// on the face's edge (a fingertip along a Jenga block's 15 mm face). The patch is anchored
+// there, so the two fingertips of a pinch sat on opposite edges and their normal forces, 1.7 N
+// each 15 mm apart, rolled the block out of the grasp. The middle of the line is found by
+// sampling the axis: the samples over the same face (a neighbouring facet of a prism or an
+// edge is not the line) within 1 mm of the deepest, the tolerance used for manifold points. A
+// bone touching with its end (tilted more than ~6 degrees to the face) keeps the point.
+void Interaction::Impl::centreOnContactLine(const World& w, BodyId body, const Shape& bone,
+                                            const Transform& pose, const Vec3& normal,
+                                            Vec3& point) const {
+  if (bone.type() != ShapeType::Capsule) return;
+  const Vec3 axis = pose.rotate(Vec3::UnitY());
+  if (std::abs(axis.dot(normal)) > 0.1) return;
+  const double y = middleOfDeepest(w, body, bone, pose, 17, 1e-3, true);
+  if (std::isfinite(y)) point += (y - axis.dot(point - pose.p)) * axis;
 }
 
 // The dynamic bodies of the world, cached: World::bodies() returns a new vector, so it is only

@@ -23,14 +23,6 @@ fs::path freshDir(const std::string& name) {
 class BuiltinSceneTest : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(BuiltinSceneTest, PassesItsCheck) {
-  if (GetParam() == "jenga_two_hands") {
-    // KNOWN PROBLEM (2026-12-01, interaction): the push and the pull work (the block comes 9 cm
-    // out in the left pinch), but once the 14 g block hangs free of the tower it rolls about its
-    // long axis between the two fingertips within 50 ms and is thrown off (the pinch springs,
-    // 1.5 N each, spin it instead of holding it), and the upper layers are knocked. The
-    // one-hand jenga scene passes. `grip run jenga_two_hands` shows the failing checks.
-    GTEST_SKIP() << GetParam() << ": known problem, the pinched block rolls out of the grasp";
-  }
   const Scene s = parseScene(*builtinScene(GetParam()));
   const RunResult r = run(s);
   ASSERT_FALSE(r.checks.empty());
