@@ -408,6 +408,25 @@ void solveNormal(SolverManifold& m, SolverBody& A, SolverBody& B, const SolveCon
   if (moves != Moves::OnlyA) B.v += (B.invMass * sum) * n, B.w += dwB;
 }
 
+// Last step's impulses applied again, all rows of the manifold at once: one linear impulse
+// (normal and tangents) and one angular change per body.
+void warmStart(const SolverManifold& m, SolverBody& A, SolverBody& B) {
+  double normal = 0.0;
+  Vec3 dwA = Vec3::Zero(), dwB = Vec3::Zero();
+  for (int k = 0; k < m.count; ++k) {
+    const SolverRow& r = m.p[k].normal;
+    normal += r.impulse;
+    dwA += r.impulse * r.dwA, dwB += r.impulse * r.dwB;
+  }
+  Vec3 linear = normal * m.normal;
+  for (const SolverRow& r : m.friction) {
+    linear += r.impulse * r.lin;
+    dwA += r.impulse * r.dwA, dwB += r.impulse * r.dwB;
+  }
+  A.v -= A.invMass * linear, A.w -= dwA;
+  B.v += B.invMass * linear, B.w += dwB;
+}
+
 // Friction first, against the current normal impulse; non-penetration last, so it has the
 // final word (as Jolt orders them; measured: normal-first lets tall stacks drift). A new
 // contact (no warm start) solves its normal first, so its friction is not judged against a
@@ -574,11 +593,7 @@ void World::Impl::solve(double dt) {
 
   for (int sub = 0; sub < substeps; ++sub) {
     integrateVelocities(h);
-    for (SolverManifold& m : solverManifolds) {  // warm start
-      SolverBody &A = solverBodies[m.a], &B = solverBodies[m.b];
-      for (int k = 0; k < m.count; ++k) applyRow(A, B, m.p[k].normal, m.p[k].normal.impulse);
-      for (const SolverRow& r : m.friction) applyRow(A, B, r, r.impulse);
-    }
+    for (SolverManifold& m : solverManifolds) warmStart(m, solverBodies[m.a], solverBodies[m.b]);
     for (SolverManifold& m : solverManifolds) solveManifold(m, solverBodies, ctx, true);
     solveDirectIslands(ctx, true);
     integratePositions(h);
