@@ -10,7 +10,6 @@
 #include <CGAL/Polygon_mesh_processing/repair_degeneracies.h>
 #include <CGAL/Polygon_mesh_processing/repair_polygon_soup.h>
 #include <CGAL/Polygon_mesh_processing/self_intersections.h>
-#include <CGAL/Polygon_mesh_processing/triangulate_faces.h>
 #include <CGAL/Polygon_mesh_processing/triangulate_hole.h>
 #include <CGAL/Surface_mesh.h>
 
@@ -379,12 +378,19 @@ Mesh repairSoup(std::vector<Point> points, std::vector<Polygon> polygons, const 
   const size_t beforeOrient = points.size();
   if (!PMP::orient_polygon_soup(points, polygons))
     rep.repairs.push_back("split " + plural(points.size() - beforeOrient, "non-manifold vertex"));
+  // Polygons become triangle fans here, in the soup: CGAL 5.5's triangulate_faces writes to
+  // freed memory on some non-planar quads (a fuzz finding, docs/fuzzing.md). A fan keeps the
+  // orientation; a fan of a non-convex polygon overlaps itself and is caught in step 5.
+  std::vector<Polygon> triangles;
+  triangles.reserve(polygons.size());
+  for (const Polygon& poly : polygons)
+    for (size_t i = 1; i + 1 < poly.size(); ++i)
+      triangles.push_back({poly[0], poly[i], poly[i + 1]});
+  if (triangles.size() != polygons.size()) rep.repairs.push_back("triangulated polygons");
+  if (!PMP::is_polygon_soup_a_polygon_mesh(triangles))
+    throw Error(name, "non-manifold: the faces do not join into a surface");
   SurfaceMesh m;
-  PMP::polygon_soup_to_polygon_mesh(points, polygons, m);
-  if (!CGAL::is_triangle_mesh(m)) {
-    if (!PMP::triangulate_faces(m)) throw Error(name, "a polygon could not be triangulated");
-    rep.repairs.push_back("triangulated polygons");
-  }
+  PMP::polygon_soup_to_polygon_mesh(points, triangles, m);
 
   // 4. Geometrically degenerate (zero-area) faces: collapse them away.
   size_t degenerate = 0;
