@@ -16,6 +16,8 @@ void addOptions(CLI::App& app, CommandLine& c) {
 }
 
 int runCommand(const std::vector<Engine>& engines, const CommandLine& c) {
+  validate(c.options);
+  makeOutputDir(c.out);  // fail before the run, not after it
   std::printf("%-7s %-14s %9s %3s %3s %12s %12s\n", "engine", "scene", "dt", "sub", "it", "s/sim s",
               "error");
   const std::vector<Sample> samples = run(engines, c.options, [](const Sample& s) {

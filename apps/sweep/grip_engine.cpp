@@ -49,26 +49,23 @@ class GripSim final : public Sim {
 
 }  // namespace
 
+std::vector<Settings> product(const std::vector<double>& ratesHz, const std::vector<int>& substeps,
+                              const std::vector<int>& iterations) {
+  std::vector<Settings> g;
+  for (double hz : ratesHz)
+    for (int n : substeps)
+      for (int it : iterations) g.push_back({1.0 / hz, n, it});
+  return g;
+}
+
 Engine gripEngine() {
-  Engine e;
-  e.name = "grip";
   const WorldDef d;
-  e.defaults = {1.0 / 60.0, d.substeps, d.relaxIterations};
-  e.grid = [](const std::string& scene, bool quick) {
-    std::vector<Settings> g;
-    std::vector<double> rates = {30, 60, 120, 240, 480};
-    std::vector<int> substeps = {1, 2, 4, 8}, iterations = {1, 4};
-    if (scene == "pile") rates = {30, 60, 120}, substeps = {1, 2, 4}, iterations = {1};
-    if (quick) rates = {60, 240}, substeps = {1, 4}, iterations = {1};
-    for (double hz : rates)
-      for (int n : substeps)
-        for (int it : iterations) g.push_back({1.0 / hz, n, it});
-    return g;
-  };
-  e.make = [](const SceneDef& sc, const Settings& s) -> std::unique_ptr<Sim> {
-    return std::make_unique<GripSim>(sc, s);
-  };
-  return e;
+  return engineOf<GripSim>("grip", {1.0 / 60.0, d.substeps, d.relaxIterations},
+                           [](const std::string& scene, bool quick) {
+                             if (quick) return product({60, 240}, {1, 4}, {1});
+                             if (scene == "pile") return product({30, 60, 120}, {1, 2, 4}, {1});
+                             return product({30, 60, 120, 240, 480}, {1, 2, 4, 8}, {1, 4});
+                           });
 }
 
 }  // namespace grip::sweep

@@ -69,7 +69,18 @@ std::string csv(const std::vector<Sample>& samples) {
   return out;
 }
 
-std::string svg(const std::vector<Sample>& samples) {
+std::string svg(const std::vector<Sample>& input) {
+  // A scene's second metric gets a panel of its own when it is an error too (the rotation's
+  // energy), not when it is context (a stack's settling, the pile's count below ground).
+  std::vector<Sample> samples = input;
+  for (const Sample& s : input)
+    if (s.error2Name.ends_with("_error")) {
+      Sample t = s;
+      t.scene = s.scene + "_" + s.error2Name.substr(0, s.error2Name.find('_'));
+      t.error = s.error2;
+      t.errorName = s.error2Name;
+      samples.push_back(t);
+    }
   std::vector<std::string> scenes, engines;
   for (const Sample& s : samples) {
     if (std::find(scenes.begin(), scenes.end(), s.scene) == scenes.end()) scenes.push_back(s.scene);
@@ -162,11 +173,15 @@ std::string svg(const std::vector<Sample>& samples) {
   return o;
 }
 
-void write(const std::vector<Sample>& samples, const std::string& dir) {
+void makeOutputDir(const std::string& dir) {
   std::error_code ec;
   std::filesystem::create_directories(dir, ec);
   if (ec || !std::filesystem::is_directory(dir))
     throw Error("--out", "cannot create the output directory " + dir);
+}
+
+void write(const std::vector<Sample>& samples, const std::string& dir) {
+  makeOutputDir(dir);
   for (const auto& [name, text] : {std::pair{std::string("sweep.csv"), csv(samples)},
                                    std::pair{std::string("sweep.svg"), svg(samples)}}) {
     const std::string path = (std::filesystem::path(dir) / name).string();

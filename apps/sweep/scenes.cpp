@@ -288,12 +288,16 @@ Sample measure(const Engine& e, const std::string& scene, const Settings& s, boo
   return out;
 }
 
-std::vector<Sample> run(const std::vector<Engine>& engines, const Options& o,
-                        const std::function<void(const Sample&)>& progress) {
-  const std::vector<std::string>& chosen = o.scenes.empty() ? sceneNames() : o.scenes;
-  for (const std::string& name : chosen) spec(name);  // every name checked before any run
+void validate(const Options& o) {
+  for (const std::string& name : o.scenes) spec(name);
   if (o.repeats < 1)
     throw Error("--repeats", "must be positive (got " + std::to_string(o.repeats) + ")");
+}
+
+std::vector<Sample> run(const std::vector<Engine>& engines, const Options& o,
+                        const std::function<void(const Sample&)>& progress) {
+  validate(o);  // every name checked before any run
+  const std::vector<std::string>& chosen = o.scenes.empty() ? sceneNames() : o.scenes;
   std::vector<Sample> out;
   for (const std::string& name : chosen) {
     for (const Engine& e : engines) {

@@ -69,7 +69,21 @@ struct Engine {
   std::function<std::unique_ptr<Sim>(const SceneDef&, const Settings&)> make;
 };
 
+// An engine whose worlds are S(SceneDef, Settings).
+template <class S>
+Engine engineOf(std::string name, Settings defaults,
+                std::function<std::vector<Settings>(const std::string&, bool)> grid) {
+  return {std::move(name), defaults, std::move(grid),
+          [](const SceneDef& sc, const Settings& s) -> std::unique_ptr<Sim> {
+            return std::make_unique<S>(sc, s);
+          }};
+}
+
 Engine gripEngine();
+
+// Every combination of step rates (Hz), substeps and iterations: an engine's grid.
+std::vector<Settings> product(const std::vector<double>& ratesHz, const std::vector<int>& substeps,
+                              const std::vector<int>& iterations);
 
 // One sample: a scene at one setting. seconds: wall time of the steps alone per simulated
 // second (median of the repeats). error2 is NaN for scenes with a single metric.
@@ -98,6 +112,8 @@ struct Options {
   int repeats = 3;                  // timing repeats per sample (the median is kept)
 };
 
+// Throws grip::Error for an unknown scene name or a non-positive repeat count.
+void validate(const Options& o);
 // Runs every engine over every chosen scene. Throws grip::Error for an unknown scene name or a
 // non-positive repeat count. progress (may be empty) is told of each sample as it is done.
 std::vector<Sample> run(const std::vector<Engine>& engines, const Options& o,
@@ -105,9 +121,12 @@ std::vector<Sample> run(const std::vector<Engine>& engines, const Options& o,
 
 // sweep.csv: a header and one row per sample.
 std::string csv(const std::vector<Sample>& samples);
-// sweep.svg: one panel per scene, log-log error against seconds, a colour per engine, each
-// engine's Pareto front as a line and its default setting ringed.
+// sweep.svg: one panel per scene (and one for the rotation's energy), log-log error against
+// seconds, a colour per engine, each engine's Pareto front as a line and its default setting
+// ringed.
 std::string svg(const std::vector<Sample>& samples);
+// Creates DIR (a run checks this before it starts); throws grip::Error naming it.
+void makeOutputDir(const std::string& dir);
 // Writes DIR/sweep.csv and DIR/sweep.svg (creating DIR); throws grip::Error naming the path.
 void write(const std::vector<Sample>& samples, const std::string& dir);
 
