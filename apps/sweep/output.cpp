@@ -73,19 +73,21 @@ std::string svg(const std::vector<Sample>& input) {
   // A scene's second metric gets a panel of its own when it is an error too (the rotation's
   // energy), not when it is context (a stack's settling, the pile's count below ground).
   std::vector<Sample> samples = input;
-  for (const Sample& s : input)
+  std::vector<std::string> scenes, engines;
+  auto once = [](std::vector<std::string>& v, const std::string& x) {
+    if (std::find(v.begin(), v.end(), x) == v.end()) v.push_back(x);
+  };
+  for (const Sample& s : input) {
+    once(scenes, s.scene);
+    once(engines, s.engine);
     if (s.error2Name.ends_with("_error")) {
       Sample t = s;
       t.scene = s.scene + "_" + s.error2Name.substr(0, s.error2Name.find('_'));
       t.error = s.error2;
       t.errorName = s.error2Name;
       samples.push_back(t);
+      once(scenes, t.scene);  // beside its scene
     }
-  std::vector<std::string> scenes, engines;
-  for (const Sample& s : samples) {
-    if (std::find(scenes.begin(), scenes.end(), s.scene) == scenes.end()) scenes.push_back(s.scene);
-    if (std::find(engines.begin(), engines.end(), s.engine) == engines.end())
-      engines.push_back(s.engine);
   }
   constexpr int kW = 380, kH = 290, kCols = 3, kTop = 40;
   const int cols = std::min<int>(kCols, std::max<int>(1, static_cast<int>(scenes.size())));
@@ -123,7 +125,7 @@ std::string svg(const std::vector<Sample>& input) {
     o += "<g class=\"panel\" id=\"panel-" + scenes[k] + "\">\n";
     o += "<text x=\"" + std::to_string(ox + 55) + "\" y=\"" + std::to_string(oy + 15) +
          "\" font-weight=\"bold\">" + scenes[k] + ": " + mine.front()->errorName +
-         (floored ? " (0 drawn at 1e-9)" : "") + "</text>\n";
+         (floored ? " (below 1e-9: drawn at 1e-9)" : "") + "</text>\n";
     o += "<rect x=\"" + format("%.1f", ax.px0) + "\" y=\"" + format("%.1f", ay.px1) +
          "\" width=\"" + format("%.1f", ax.px1 - ax.px0) + "\" height=\"" +
          format("%.1f", ay.px0 - ay.px1) + "\" fill=\"none\" stroke=\"#888\"/>\n";
