@@ -60,12 +60,14 @@ std::vector<Settings> product(const std::vector<double>& ratesHz, const std::vec
 
 Engine gripEngine() {
   const WorldDef d;
-  return engineOf<GripSim>("grip", {1.0 / 60.0, d.substeps, d.relaxIterations},
-                           [](const std::string& scene, bool quick) {
-                             if (quick) return product({60, 240}, {1, 4}, {1});
-                             if (scene == "pile") return product({30, 60, 120}, {1, 2, 4}, {1});
-                             return product({30, 60, 120, 240, 480}, {1, 2, 4, 8}, {1, 4});
-                           });
+  Engine e = engineOf<GripSim>("grip", {1.0 / 60.0, d.substeps, d.relaxIterations},
+                               [](const std::string& scene, bool quick) {
+                                 if (quick) return product({60, 240}, {1, 4}, {1});
+                                 if (scene == "pile") return product({30, 60, 120}, {1, 2, 4}, {1});
+                                 return product({30, 60, 120, 240, 480}, {1, 2, 4, 8}, {1, 4});
+                               });
+  e.hands = true;
+  return e;
 }
 
 }  // namespace grip::sweep

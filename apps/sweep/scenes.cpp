@@ -8,7 +8,7 @@
 
 #include "core/error.hpp"
 #include "dynamics/scenes.hpp"
-#include "sweep/sweep.hpp"
+#include "sweep/detail.hpp"
 
 namespace grip::sweep {
 
@@ -17,10 +17,7 @@ namespace {
 constexpr double kG = 9.81;
 constexpr double kMu = 0.5;  // friction of every scene with contact
 
-struct Outcome {
-  double error = 0, error2 = std::numeric_limits<double>::quiet_NaN();
-  double simulated = 0, wall = 0;  // s
-};
+using detail::Outcome;
 
 // A Sim whose steps are timed and counted.
 class Clock {
@@ -223,22 +220,28 @@ Outcome pile(const Engine& e, const Settings& s, bool quick) {
   return c.outcome(deepest, static_cast<double>(std::count(below.begin(), below.end(), 1)));
 }
 
+Outcome hold(const Engine&, const Settings& s, bool) {
+  return detail::hold(s);
+}
+
 struct SceneSpec {
   const char* name;
   const char* errorName;
   const char* error2Name;
   Outcome (*run)(const Engine&, const Settings&, bool quick);
+  bool needsHands = false;  // only engines with grip's hand interaction run it
 };
 
 const std::vector<SceneSpec>& specs() {
   static const std::vector<SceneSpec> all = {
-      {"incline", "slide_rel_error", "", inclineSlide},
-      {"incline_stick", "slid_m", "", inclineStick},
-      {"stack", "top_drift_m", "settle_m", stack},
-      {"bounce", "apex_rel_error", "", bounce},
-      {"rotation", "momentum_rel_error", "energy_rel_error", rotation},
-      {"push", "travel_rel_error", "", push},
-      {"pile", "deepest_m", "below_ground", pile},
+      {"incline", "slide_rel_error", "", inclineSlide, false},
+      {"incline_stick", "slid_m", "", inclineStick, false},
+      {"stack", "top_drift_m", "settle_m", stack, false},
+      {"bounce", "apex_rel_error", "", bounce, false},
+      {"rotation", "momentum_rel_error", "energy_rel_error", rotation, false},
+      {"push", "travel_rel_error", "", push, false},
+      {"pile", "deepest_m", "below_ground", pile, false},
+      {"hold", "threshold_rel_error", "threshold_signed", hold, true},
   };
   return all;
 }
@@ -301,6 +304,7 @@ std::vector<Sample> run(const std::vector<Engine>& engines, const Options& o,
   std::vector<Sample> out;
   for (const std::string& name : chosen) {
     for (const Engine& e : engines) {
+      if (spec(name).needsHands && !e.hands) continue;
       std::vector<Settings> grid = e.grid(name, o.quick);
       const bool hasDefault = std::any_of(grid.begin(), grid.end(), [&](const Settings& s) {
         return s.dt == e.defaults.dt && s.substeps == e.defaults.substeps &&

@@ -67,6 +67,7 @@ struct Engine {
   Settings defaults;
   std::function<std::vector<Settings>(const std::string& scene, bool quick)> grid;
   std::function<std::unique_ptr<Sim>(const SceneDef&, const Settings&)> make;
+  bool hands = false;  // grip's hand interaction: runs the `hold` scene
 };
 
 // An engine whose worlds are S(SceneDef, Settings).
@@ -76,7 +77,8 @@ Engine engineOf(std::string name, Settings defaults,
   return {std::move(name), defaults, std::move(grid),
           [](const SceneDef& sc, const Settings& s) -> std::unique_ptr<Sim> {
             return std::make_unique<S>(sc, s);
-          }};
+          },
+          false};
 }
 
 Engine gripEngine();
