@@ -16,6 +16,7 @@ Command addRunCommand(CLI::App& app);
 Command addScenesCommand(CLI::App& app);
 Command addEvalCommand(CLI::App& app);
 Command addViewCommand(CLI::App& app);
+Command addSweepCommand(CLI::App& app);
 #ifdef GRIP_HAVE_VOXEL
 Command addPrepCommand(CLI::App& app);
 #endif

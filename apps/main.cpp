@@ -15,6 +15,7 @@ int main(int argc, char** argv) {
   commands.push_back(grip::cli::addScenesCommand(app));
   commands.push_back(grip::cli::addEvalCommand(app));
   commands.push_back(grip::cli::addViewCommand(app));
+  commands.push_back(grip::cli::addSweepCommand(app));
 #ifdef GRIP_HAVE_VOXEL
   commands.push_back(grip::cli::addPrepCommand(app));
 #endif

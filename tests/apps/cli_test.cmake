@@ -53,6 +53,11 @@ expect_error("hands\\[0\\]\\.tracking: .*kinect\\.json: source: must be one of o
 expect_error("trials: must be positive \\(got 0\\)" eval placement --trials 0)
 expect_error("trials: must be positive" eval placement --trials -2)
 expect_error("noise: must be between" eval placement --noise 1)
+expect_error("^grip: --scene: unknown scene 'nosuch' \\(one of incline, incline_stick, stack, bounce, rotation, push, pile, hold\\)$" sweep --scene nosuch --out ${WORK}/sweep)
+expect_error("^grip: --repeats: must be positive \\(got 0\\)$" sweep --repeats 0 --out ${WORK}/sweep)
+expect_error("^grip: --out: cannot create the output directory ${WORK}/afile/sub$" sweep --quick --out ${WORK}/afile/sub)
+expect_error("^grip: The following argument was not expected: --bogus$" sweep --bogus)
+expect_error("^grip: Could not convert: --repeats = x$" sweep --repeats x)
 
 # A good run, twice: exit 0, files written, the same hash.
 foreach(i 1 2)

@@ -1,0 +1,73 @@
+// grip behind the sweep's Sim interface, and the grid grip is swept over.
+#include "dynamics/scenes.hpp"
+#include "dynamics/world.hpp"
+#include "sweep/sweep.hpp"
+
+namespace grip::sweep {
+
+namespace {
+
+class GripSim final : public Sim {
+ public:
+  GripSim(const SceneDef& sc, const Settings& s) : world_(def(sc, s)), dt_(s.dt) {
+    // The ground's friction is 1: grip combines by the geometric mean, and each solid is
+    // given the square of its coefficient, so a pair gets the product (see SolidDef).
+    if (sc.ground) scenes::addGround(world_, 1.0, 1.0);
+  }
+  int add(const SolidDef& s) override {
+    BodyDef d;
+    d.shape = s.sphere ? Shape::sphere(s.radius) : Shape::box(s.halfExtents);
+    d.mass = s.mass;
+    d.position = s.position;
+    d.orientation = s.orientation;
+    d.linearVelocity = s.linearVelocity;
+    d.angularVelocity = s.angularVelocity;
+    d.material.staticFriction = d.material.dynamicFriction = s.friction * s.friction;
+    d.material.restitution = s.restitution;  // grip takes the larger; the ground has 0
+    ids_.push_back(world_.createBody(d));
+    return static_cast<int>(ids_.size()) - 1;
+  }
+  void addForce(int body, const Vec3& f) override { world_.addForce(ids_[body], f); }
+  void step() override { world_.step(dt_); }
+  Vec3 position(int body) const override { return world_.pose(ids_[body]).p; }
+  Quat orientation(int body) const override { return world_.pose(ids_[body]).q; }
+  Vec3 linearVelocity(int body) const override { return world_.linearVelocity(ids_[body]); }
+  Vec3 angularVelocity(int body) const override { return world_.angularVelocity(ids_[body]); }
+
+ private:
+  static WorldDef def(const SceneDef& sc, const Settings& s) {
+    WorldDef d;
+    d.gravity = sc.gravity;
+    d.substeps = s.substeps;
+    d.relaxIterations = s.iterations;
+    return d;
+  }
+  World world_;
+  double dt_;
+  std::vector<BodyId> ids_;
+};
+
+}  // namespace
+
+std::vector<Settings> product(const std::vector<double>& ratesHz, const std::vector<int>& substeps,
+                              const std::vector<int>& iterations) {
+  std::vector<Settings> g;
+  for (double hz : ratesHz)
+    for (int n : substeps)
+      for (int it : iterations) g.push_back({1.0 / hz, n, it});
+  return g;
+}
+
+Engine gripEngine() {
+  const WorldDef d;
+  Engine e = engineOf<GripSim>("grip", {1.0 / 60.0, d.substeps, d.relaxIterations},
+                               [](const std::string& scene, bool quick) {
+                                 if (quick) return product({60, 240}, {1, 4}, {1});
+                                 if (scene == "pile") return product({30, 60, 120}, {1, 2, 4}, {1});
+                                 return product({30, 60, 120, 240, 480}, {1, 2, 4, 8}, {1, 4});
+                               });
+  e.hands = true;
+  return e;
+}
+
+}  // namespace grip::sweep

@@ -1,0 +1,16 @@
+#include "peers/peers.hpp"
+
+namespace grip::peers {
+
+std::vector<sweep::Engine> allEngines() {
+  std::vector<sweep::Engine> e = {sweep::gripEngine()};
+#ifdef GRIP_HAVE_BULLET
+  e.push_back(bulletEngine());
+#endif
+#ifdef GRIP_HAVE_ODE
+  e.push_back(odeEngine());
+#endif
+  return e;
+}
+
+}  // namespace grip::peers
