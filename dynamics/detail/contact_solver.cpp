@@ -739,22 +739,37 @@ void World::Impl::integrateVelocities(double h) {
   }
 }
 
-// Positions and orientations advance with the substep's velocities. The gyroscopic effect
-// comes from keeping the world angular momentum L = I(q) w through each rotation:
-// w <- I(q1)^-1 I(q0) w. Free rotation then keeps L exactly, and |w| <= |L| / I_min can
-// never blow up, at any spin rate (unlike the explicit w x Iw torque).
+// Positions and orientations advance with the substep's velocities. A body that is not
+// isotropic turns as a free rigid body does over the substep, keeping its world angular
+// momentum L exactly: the rotation is split into turns about its principal axes, each exact
+// (x, y by h/2, z by h, y, x by h/2: symmetric, second order, with an energy error that stays
+// bounded instead of drifting; the plain update w <- I(q1)^-1 I(q0) w lost 45 % of a spin's
+// energy near the intermediate axis in 10 s). This is the gyroscopic effect, implicitly: |w|
+// can never blow up at any spin rate (unlike an explicit w x Iw torque).
 void World::Impl::integratePositions(double h) {
   for (size_t k = 0; k < awakeBodies.size(); ++k) {
     const Body& b = bodies[awakeBodies[k]];
     SolverBody& s = solverBodies[k + 1];
     s.dp += h * s.v;
     s.dtheta += h * s.w;
-    const Quat q0 = s.dq * b.pose.q;
-    s.dq = integrateRotation(s.dq, s.w, h);
-    if (!b.isDynamic() || s.w.isZero()) continue;
-    const Mat3 R0 = q0.toRotationMatrix(), R1 = (s.dq * b.pose.q).toRotationMatrix();
-    const Vec3 L = R0 * (b.inertiaLocal * (R0.transpose() * s.w));
-    s.w = R1 * (b.invInertiaLocal * (R1.transpose() * L));
+    if (!b.isDynamic() || b.isotropic || s.w.isZero()) {
+      s.dq = integrateRotation(s.dq, s.w, h);
+      continue;
+    }
+    // In the principal frame: momentum pi, orientation qp (world from principal).
+    Quat qp = s.dq * b.pose.q * b.principalFrame;
+    const Vec3 L = (s.dq * b.pose.q) * (b.inertiaLocal * ((s.dq * b.pose.q).conjugate() * s.w));
+    Vec3 pi = qp.conjugate() * L;
+    auto turn = [&](int axis, double t) {
+      const double angle = t * pi[axis] / b.principalInertia[axis];
+      const Quat r(Eigen::AngleAxisd(angle, Vec3::Unit(axis)));
+      qp = qp * r;
+      pi = r.conjugate() * pi;
+    };
+    turn(0, 0.5 * h), turn(1, 0.5 * h), turn(2, h), turn(1, 0.5 * h), turn(0, 0.5 * h);
+    qp.normalize();
+    s.dq = (qp * b.principalFrame.conjugate() * b.pose.q.conjugate()).normalized();
+    s.w = qp * pi.cwiseQuotient(b.principalInertia);
   }
 }
 

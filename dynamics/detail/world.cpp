@@ -1,6 +1,8 @@
 // The World's public API: creation, validation, forces, state access and queries.
 #include <algorithm>
 
+#include <Eigen/Eigenvalues>
+
 #include "dynamics/detail/world_impl.hpp"
 
 namespace grip {
@@ -136,6 +138,13 @@ BodyId World::createBody(const BodyDef& d) {
     b.inertiaLocal = mp.inertia;
     b.invInertiaLocal = mp.inertia.inverse();
     if (!b.invInertiaLocal.allFinite()) throw Error("BodyDef.shape", "has a singular inertia");
+    const Eigen::SelfAdjointEigenSolver<Mat3> principal(mp.inertia);
+    Mat3 axes = principal.eigenvectors();
+    if (axes.determinant() < 0.0) axes.col(2) = -axes.col(2);
+    b.principalFrame = Quat(axes).normalized();
+    b.principalInertia = principal.eigenvalues();
+    b.isotropic = b.principalInertia.maxCoeff() - b.principalInertia.minCoeff() <=
+                  1e-9 * b.principalInertia.maxCoeff();
     b.v = d.linearVelocity;
     b.w = d.angularVelocity;
   } else if (d.type == BodyType::Kinematic) {

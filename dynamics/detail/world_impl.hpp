@@ -24,6 +24,11 @@ struct Body {
   double invMass = 0.0;
   Mat3 inertiaLocal = Mat3::Zero();  // about the com, body frame
   Mat3 invInertiaLocal = Mat3::Zero();
+  // The principal axes (body frame = principalFrame * principal frame) and moments, for the
+  // free-rotation update; an isotropic body (a cube, a sphere) spins about a fixed axis.
+  Quat principalFrame = Quat::Identity();
+  Vec3 principalInertia = Vec3::Zero();
+  bool isotropic = true;
   Vec3 force = Vec3::Zero(), torque = Vec3::Zero();              // ForceMode::Force
   Vec3 linearAccel = Vec3::Zero(), angularAccel = Vec3::Zero();  // ForceMode::Acceleration
   double linearDamping = 0.0, angularDamping = 0.0, gravityScale = 1.0;
