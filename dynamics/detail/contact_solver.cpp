@@ -369,6 +369,9 @@ void solveNormal(SolverManifold& m, SolverBody& A, SolverBody& B, const SolveCon
       impulseScale[k] = soft.impulseScale;
     }
     vn[k] = linearVelocity + r.angB.dot(B.w) - r.angA.dot(A.w);
+    // Restitution answers the fastest approach before an impulse: the substep of impact
+    // closes faster than the step's start did (by up to g dt at 60 Hz: 4 % of a 1 m drop).
+    if (useBias) m.p[k].relativeVelocity = std::min(m.p[k].relativeVelocity, vn[k]);
     mass[k] = both ? r.mass : m.shockNormalMass[k];
     rigid &= massScale[k] == 1.0;
     speculative += s > 0.0;

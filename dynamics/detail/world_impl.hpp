@@ -103,7 +103,7 @@ struct SolverPoint {
   SolverRow normal;
   double separation = 0.0;  // at the step's start
   double maxNormalImpulse = 0.0;
-  double relativeVelocity = 0.0;  // normal velocity at the step's start (for restitution)
+  double relativeVelocity = 0.0;  // fastest normal approach this step (for restitution)
 };
 
 // A manifold: non-penetration per point, Coulomb friction for the whole patch at its centre

@@ -27,7 +27,7 @@ const std::map<std::string, std::string> kGolden = {
     {"stack20", "9fc9dfc866c360a0"},
     {"ball_into_stack", "8783515f51b77a9f"},
     {"incline", "12d4ca2f18a7cc0c"},
-    {"mixed", "5f7408f993d44821"},
+    {"mixed", "cf58b97553bf749f"},
 };
 
 }  // namespace
