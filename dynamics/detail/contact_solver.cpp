@@ -101,6 +101,9 @@ void solveFriction(SolverManifold& m, SolverBody& A, SolverBody& B, const SolveC
   for (int k = 0; k < m.count; ++k) normal += m.p[k].normal.impulse;
   const double mu = m.sliding ? m.dynamicFriction : m.staticFriction;
   SolverRow &t1 = m.friction[0], &t2 = m.friction[1], &twist = m.friction[2];
+  // No push, no friction: a patch that does not press and holds no friction impulse has
+  // nothing to do (most speculative contacts of a falling pile).
+  if (normal == 0.0 && t1.impulse == 0.0 && t2.impulse == 0.0 && twist.impulse == 0.0) return;
   const double old1 = t1.impulse, old2 = t2.impulse;
   // A sticking patch is pulled back to its anchor softly in the biased pass (the drift is
   // linearised in the bodies' motion since the step began, as separations are).
@@ -863,13 +866,21 @@ void World::Impl::computeLevels() {
       if (levels[other] == kFree) levels[other] = levels[body] + 1, queue.push_back(other);
     }
   }
-  shockOrder.resize(solverManifolds.size());
-  for (size_t i = 0; i < shockOrder.size(); ++i) shockOrder[i] = static_cast<int>(i);
+  // Manifolds from the ground up (by their lower body's level; index order within a level):
+  // a counting sort, as levels are small.
+  const int count = static_cast<int>(solverManifolds.size());
+  int top = 0;
+  for (int l : levels)
+    if (l != kFree) top = std::max(top, l);
   auto lowLevel = [&](int i) {
-    return std::min(levels[solverManifolds[i].a], levels[solverManifolds[i].b]);
+    const int l = std::min(levels[solverManifolds[i].a], levels[solverManifolds[i].b]);
+    return l == kFree ? top + 1 : l;
   };
-  std::stable_sort(shockOrder.begin(), shockOrder.end(),
-                   [&](int x, int y) { return lowLevel(x) < lowLevel(y); });
+  queue.assign(top + 3, 0);  // reused scratch: manifolds per level, then first slots
+  for (int i = 0; i < count; ++i) ++queue[lowLevel(i) + 1];
+  for (int l = 0; l <= top + 1; ++l) queue[l + 1] += queue[l];
+  shockOrder.resize(count);
+  for (int i = 0; i < count; ++i) shockOrder[queue[lowLevel(i)]++] = i;
 
   // Islands (union-find over the manifolds between moving bodies) and their heights. Support
   // must travel from the ground to the top of an island, and a Gauss-Seidel pass carries it
