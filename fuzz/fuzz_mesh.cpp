@@ -29,8 +29,11 @@ std::string extensionFor(const std::string& s) {
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const std::string bytes(reinterpret_cast<const char*>(data), size);
-  const std::string path =
-      "/tmp/grip_fuzz_mesh_" + std::to_string(getpid()) + "." + extensionFor(bytes);
+  // The process id is zero-padded: a path whose length changed from run to run changed the
+  // code paths the messages take, so a fixed-seed run did not repeat itself.
+  char pid[16];
+  std::snprintf(pid, sizeof pid, "%010d", static_cast<int>(getpid()));
+  const std::string path = "/tmp/grip_fuzz_mesh_" + std::string(pid) + "." + extensionFor(bytes);
   if (FILE* f = std::fopen(path.c_str(), "wb")) {
     std::fwrite(bytes.data(), 1, bytes.size(), f);
     std::fclose(f);

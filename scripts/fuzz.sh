@@ -4,7 +4,8 @@
 # seed (FUZZ_RUNS, default 100000; FUZZ_SEED, default 1), so that CI's run is the same run every
 # time: it passes or fails on the code, not on luck. FUZZ_SECONDS=N fuzzes for N seconds with
 # a random seed instead (for finding new bugs locally).
-# New interesting inputs go to build-fuzz/corpus/<target>/ (kept between runs, not committed).
+# New interesting inputs go to build-fuzz/corpus/<target>/ when hunting (kept between runs, not
+# committed) and to a fresh build-fuzz/run/<target>/ in a fixed-seed run.
 # Exits non-zero on the first crash, leak or timeout; the input is kept in
 # build-fuzz/crashes/<target>/ (see docs/fuzzing.md for turning it into a regression test).
 # FUZZ_TARGETS="scene asset" runs a subset.
@@ -27,14 +28,30 @@ cmake -S . -B build-fuzz "${generator[@]}" -DCMAKE_BUILD_TYPE=RelWithDebInfo \
   -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ -DGRIP_BUILD_FUZZ=ON \
   -DGRIP_BUILD_TESTS=OFF -DGRIP_BUILD_BENCH=OFF -DGRIP_BUILD_VOXEL=OFF -DGRIP_WERROR=ON >/dev/null
 cmake --build build-fuzz --parallel "$(nproc)" --target "${targets[@]/#/fuzz_}"
+# A fixed-seed run repeats itself only if nothing else varies: -reload=0 stops libFuzzer from
+# re-reading its corpus on the clock, and address-space randomisation is turned off because
+# CGAL orders some containers by pointer, which changes the code paths an input takes.
+norandom=()
+if setarch "$(uname -m)" -R true 2>/dev/null; then
+  norandom=(setarch "$(uname -m)" -R)
+elif [ -z "${FUZZ_SECONDS:-}" ]; then
+  echo "fuzz: cannot turn off address-space randomisation here; the run may differ from CI's" >&2
+fi
 for t in "${targets[@]}"; do
-  mkdir -p "build-fuzz/corpus/$t" "build-fuzz/crashes/$t"
+  # Hunting keeps what it finds in build-fuzz/corpus/; a fixed-seed run starts from the
+  # committed corpus alone (an empty build-fuzz/run/), as it does on a fresh clone.
+  found="build-fuzz/corpus/$t"
+  if [ -z "${FUZZ_SECONDS:-}" ]; then
+    budget=(-runs="$(runsFor "$t")" -seed="$seed")
+    found="build-fuzz/run/$t"
+    rm -rf "$found"
+  fi
+  mkdir -p "$found" "build-fuzz/crashes/$t"
   log="build-fuzz/fuzz_$t.log"
   # -timeout: one input taking 10 s is a hang; -rss_limit_mb: an input may not need 2 GB.
-  [ -n "${FUZZ_SECONDS:-}" ] || budget=(-runs="$(runsFor "$t")" -seed="$seed")
-  if ! "build-fuzz/fuzz/fuzz_$t" "${budget[@]}" -timeout=10 -rss_limit_mb=2048 \
+  if ! "${norandom[@]}" "build-fuzz/fuzz/fuzz_$t" "${budget[@]}" -reload=0 -timeout=10 -rss_limit_mb=2048 \
       -print_final_stats=1 -artifact_prefix="build-fuzz/crashes/$t/" \
-      "build-fuzz/corpus/$t" "fuzz/corpus/$t" >"$log" 2>&1; then
+      "$found" "fuzz/corpus/$t" >"$log" 2>&1; then
     tail -n 60 "$log"
     echo "fuzz: $t FAILED (input in build-fuzz/crashes/$t/, log $log)" >&2
     exit 1

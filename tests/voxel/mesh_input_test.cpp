@@ -197,6 +197,11 @@ TEST(MeshInput, FuzzerFindingsAreRefusedWithAMessage) {
   EXPECT_NE(failure(quads).find("non-manifold: the faces do not join into a surface"),
             std::string::npos)
       << failure(quads);
+  // Binary OFF whose two counts add up beyond an int: CGAL converted 2.8e9 to int (undefined).
+  const std::string binary =
+      sourceDir() + "/tests/voxel/data/regression_off_binary_huge_counts.off";
+  EXPECT_NE(failure(binary).find("binary OFF is not supported"), std::string::npos)
+      << failure(binary);
   // The same checks, and the others of the PLY header, on written files.
   struct Case {
     const char* file;
@@ -230,6 +235,9 @@ TEST(MeshInput, FuzzerFindingsAreRefusedWithAMessage) {
        "negative number '-4' in the face on line 7"},
       {"infindex.off", "OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 inf\n",
        "non-finite number on line 8"},
+      {"comment.off", "COFF # colours\n# a comment line\nBINARY\n", "binary OFF is not supported"},
+      {"ndim.off", "nOFF\n3\n4 4 0\n", "OFF variant 'nOFF' is not supported"},
+      {"homog.off", "4OFF\n4 4 0\n", "OFF variant '4OFF' is not supported"},
   };
   for (const Case& c : cases) {
     const std::string msg = failure(writeFile(c.file, c.text));
