@@ -1,7 +1,10 @@
 // The two-finger hold threshold (grip only: the peers have no hand interaction). Two fingertips
-// pinch a 0.1 kg, 6 cm cube on the floor at depth δ and lift it 5 cm; the cube is held when
-// 2 μs γ δ ≥ m g (thesis 3.5). The sweep finds the smallest depth that holds by bisection and
-// compares it with m g / (2 μs γ).
+// pinch a 0.1 kg, 6 cm cube in mid-air at depth δ while its weight comes in over a second (an
+// upward force cancels gravity at first); the cube is held when 2 μs γ δ ≥ m g (thesis 3.5).
+// The sweep finds the smallest depth that holds by bisection and compares it with
+// m g / (2 μs γ). The load is quasi-static on purpose: the law is a static one. Lifting the cube
+// off a floor adds the lift's own transient (the fingers start at 5 cm/s), and once the cube
+// slips the kinetic μd = 0.8 μs cannot stop it: that threshold is higher (docs/accuracy.md).
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -14,31 +17,32 @@ namespace grip::sweep::detail {
 
 namespace {
 
-constexpr double kMass = 0.1, kHalf = 0.03, kLift = 0.05;
+constexpr double kMass = 0.1, kHalf = 0.03;
 
-// Squeeze 0.25 s, lift 5 cm over 1 s, hold 1 s; true when the cube came up with the fingers.
+// Squeeze 0.25 s, weight in over 1 s, hold 1 s; true when the cube stayed with the fingers.
 bool holds(const Settings& s, double depth, double& wall, double& simulated) {
   WorldDef wd;
   wd.substeps = s.substeps;
   wd.relaxIterations = s.iterations;
   World w(wd);
   Interaction ix;
-  scenarios::addFloor(w);
-  const Vec3 c(0.0, kHalf, 0.0);
+  const Vec3 c(0.0, 0.5, 0.0);
   const BodyId cube = scenarios::addBox(w, Vec3::Constant(kHalf), kMass, c);
   const HandDef hd;
   const HandId h = ix.addHand(hd);
-  const long squeeze = std::lround(0.25 / s.dt), rise = std::lround(1.0 / s.dt);
-  const long steps = squeeze + 2 * rise;
+  const long squeeze = std::lround(0.25 / s.dt), ramp = std::lround(1.0 / s.dt);
+  const long steps = squeeze + 2 * ramp;
+  const double g = -wd.gravity.y();
   for (long i = 0; i < steps; ++i) {
-    const double up = kLift * std::clamp(double(i - squeeze) / double(rise), 0.0, 1.0);
-    ix.setHandPose(h, scenarios::pinchCube(hd, c + Vec3(0.0, up, 0.0), kHalf, depth));
+    const double weight = std::clamp(double(i - squeeze) / double(ramp), 0.0, 1.0);
+    w.addForce(cube, Vec3(0.0, (1.0 - weight) * kMass * g, 0.0));
+    ix.setHandPose(h, scenarios::pinchCube(hd, c, kHalf, depth));
     const auto t0 = std::chrono::steady_clock::now();
     ix.step(w, s.dt);
     wall += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   }
   simulated += steps * s.dt;
-  return c.y() + kLift - w.centerOfMass(cube).y() < 0.01;  // within 1 cm of the fingers
+  return c.y() - w.centerOfMass(cube).y() < 0.01;  // within 1 cm of the fingers
 }
 
 }  // namespace

@@ -264,7 +264,7 @@ struct Interaction::Impl {
                    double offset);
   double gripForce(const World& w, uint32_t hand, BodyId body, bool& opposing) const;
   void externalForces(const World& w, BodyId body, RigidBodyState& s) const;
-  void solveSpringForces(const RigidBodyState& state, double muS, double muD, double dt);
+  Twist solveSpringForces(const RigidBodyState& state, double muS, double muD, double dt);
 };
 
 // Tracking frames become the poses this update uses. A hand without a new frame keeps its last
@@ -627,20 +627,20 @@ void Interaction::Impl::slideSample(const World& w, const Transform& body, Conta
 
 // The forces of all springs on one body: the implicit solve with the friction cone inside it
 // (eqs. 3.5-3.8 decide per sample whether it sticks, slips or lets go, and the solve uses each
-// sample's law), or the explicit springs followed by the cone.
-void Interaction::Impl::solveSpringForces(const RigidBodyState& state, double muS, double muD,
-                                          double dt) {
+// sample's law), or the explicit springs followed by the cone. Returns the body's velocity the
+// forces were solved with (zero for the explicit springs: they act on the stretch as it is).
+Twist Interaction::Impl::solveSpringForces(const RigidBodyState& state, double muS, double muD,
+                                           double dt) {
   const size_t n = springs.size();
   cone.resize(n);
-  if (def.integration == SpringIntegration::Implicit) {
-    implicitConeForces(state, springs, muS, muD, def.slipLaw, dt, cone);
-    return;
-  }
+  if (def.integration == SpringIntegration::Implicit)
+    return implicitConeForces(state, springs, muS, muD, def.slipLaw, dt, cone).velocity;
   for (size_t j = 0; j < n; ++j) {
     const SpringPoint& sp = springs[j];
     cone[j] =
         frictionCone(sp.stiffness * (sp.target - sp.anchor), sp.normal, muS, muD, def.slipLaw);
   }
+  return Twist::Zero();
 }
 
 // The force law, body by body: the implicit spring of every pressing sample on the body with
@@ -680,7 +680,7 @@ void Interaction::Impl::applyFrictionForces(World& w, double dt) {
     state.linearVelocity = w.linearVelocity(bodyId);
     state.angularVelocity = w.angularVelocity(bodyId);
     externalForces(w, bodyId, state);
-    solveSpringForces(state, muStatic(bodyId), muDynamic(bodyId), dt);
+    const Twist solved = solveSpringForces(state, muStatic(bodyId), muDynamic(bodyId), dt);
     const double muD = muDynamic(bodyId);
 
     Vec3 total = Vec3::Zero();
@@ -707,8 +707,14 @@ void Interaction::Impl::applyFrictionForces(World& w, double dt) {
         if (r.slipping) {
           c.slipping = true;
           ++slippingSamples;
+          // The shift puts the stretch the cone judged, the one at the end of the step (the
+          // body moved by h V+), on the kinetic cone. Shifting the start-of-step stretch left
+          // the next step's spring short of the kinetic force by the body's travel: a lifted
+          // cube then slid at a force averaging m g and never caught up with the fingers.
           if (def.surfaceUpdates) {
-            slideSample(w, body, c, s, slipShift(stretch, n, muD), def.contactOffset);
+            const Vec3 arm = sp.anchor - state.com;
+            const Vec3 travel = dt * (solved.head<3>() + solved.tail<3>().cross(arm));
+            slideSample(w, body, c, s, slipShift(stretch - travel, n, muD), def.contactOffset);
           }
         }
       }
