@@ -414,20 +414,36 @@ bool convexGeneric(const Shape& a, const Transform& ta, const Shape& b, const Tr
   const Feature& ref = refIsA ? fa : fb;
   const Feature& inc = refIsA ? fb : fa;
   if (std::max(alignA, alignB) > 0.7 && inc.count >= 2) {
-    // Use the face only if its axis separates nearly as well as the true normal does.
+    // Use the face only if its axis separates nearly as well as the true normal does, judged
+    // by the incident feature's support along the face normal...
     const Vec3 faceN = ref.normal;
     const Vec3 incSupport = refIsA ? cb.support(-faceN) : ca.support(-faceN);
     const double faceSep = (incSupport - ref.p[0]).dot(faceN) - rA - rB;
-    if (faceSep >= sep - (1e-4 + 1e-3 * std::abs(sep))) {
+    const bool supportAgrees = faceSep >= sep - (1e-4 + 1e-3 * std::abs(sep));
+    // ...or, where the support lies beyond the face (a capsule longer than the face it lies
+    // on dips outside it by a tiny tilt; the face then failed, and one GJK point on the edge
+    // the tilt chose was left), by the clipped points themselves: the deepest of them reaching
+    // the true separation, not beyond it. Only for a capsule's segment, with the cores apart
+    // (the separation is then GJK's exact distance) and the face within 5 degrees of GJK's
+    // normal. (A hull plank across a narrow face has the same problem; for hulls the test is
+    // not enough: random hull pairs found other contacts that pass it.)
+    const Shape& incShape = refIsA ? b : a;
+    const bool mayOverhang = !supportAgrees && faceSep < sep && !dist.overlap &&
+                             incShape.type() == ShapeType::Capsule &&
+                             std::max(alignA, alignB) > 0.996;
+    if (supportAgrees || mayOverhang) {
       Manifold trial = m;
       trial.normal = refIsA ? faceN : Vec3(-faceN);
       const int count =
           detail::clipFeatures(ref, inc, refIsA, refIsA ? rA : rB, refIsA ? rB : rA, margin, trial);
-      // Accept only if the clipped polygon keeps the deepest point (it always should; this
-      // guards against a degenerate incident face).
       double deepest = std::numeric_limits<double>::infinity();
       for (int i = 0; i < count; ++i) deepest = std::min(deepest, trial.points[i].separation);
-      if (count > 0 && deepest <= faceSep + 1e-6 + 1e-3 * std::abs(faceSep)) {
+      // Accept only if the clipped polygon keeps the deepest point (it always should; this
+      // guards against a degenerate incident face).
+      const bool keepsDeepest =
+          supportAgrees ? deepest <= faceSep + 1e-6 + 1e-3 * std::abs(faceSep)
+                        : deepest >= sep - 1e-9 && deepest <= sep + 1e-4 + 1e-3 * std::abs(sep);
+      if (count > 0 && keepsDeepest) {
         m = trial;
         return true;
       }

@@ -465,14 +465,15 @@ void Interaction::Impl::refineOnDistanceField(const World& w, BodyId body, const
   normal = -sp.normal;
 }
 
-// The narrowphase reports a capsule lying (nearly) flat on a box face sometimes with a single
-// point, GJK's closest pair, which is an arbitrary point of the line of contact: often its end
-// on the face's edge (a fingertip along a Jenga block's 15 mm face). The patch is anchored
-// there, so the two fingertips of a pinch sat on opposite edges and their normal forces, 1.7 N
-// each 15 mm apart, rolled the block out of the grasp. The middle of the line is found by
-// sampling the axis: the samples over the same face (a neighbouring facet of a prism or an
-// edge is not the line) within 1 mm of the deepest, the tolerance used for manifold points. A
-// bone touching with its end (tilted more than ~6 degrees to the face) keeps the point.
+// The narrowphase reports a capsule lying (nearly) flat on a face by the ends of the line of
+// contact (two clipped points), or, on a hull face it overhangs, by a single point, GJK's
+// closest pair: often its end on the face's edge (a fingertip along a Jenga block's 15 mm
+// face). A patch anchored at an end, as it once was, left the two fingertips of a pinch on opposite
+// edges and their normal forces, 1.7 N each 15 mm apart, rolled the block out of the grasp. The
+// middle of the line is found by sampling the axis: the samples over the same face (a neighbouring
+// facet of a prism or an edge is not the line) within 1 mm of the deepest, the tolerance used for
+// manifold points. A bone touching with its end (tilted more than ~6 degrees to the face) keeps the
+// point.
 void Interaction::Impl::centreOnContactLine(const World& w, BodyId body, const Shape& bone,
                                             const Transform& pose, const Vec3& normal,
                                             Vec3& point) const {

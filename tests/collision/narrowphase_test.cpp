@@ -347,6 +347,26 @@ TEST(CapsuleBox, LyingGivesTwoPointsStandingGivesOne) {
   EXPECT_NEAR(m.points[0].separation, -0.15, 1e-6);
 }
 
+TEST(CapsuleBox, LyingAcrossANarrowFaceGivesTwoPointsAtItsEdgesWhenTilted) {
+  // A capsule longer than the face on both sides: the end that dips lies outside the face, so
+  // the face's separation must come from the clipped segment, not from the capsule's support
+  // (which once made the face fail its test and left one GJK point on one edge, the edge
+  // chosen by the sign of a 0.2 degree tilt).
+  auto cap = Shape::capsule(0.1, 0.3);
+  auto bar = Shape::box(Vec3(0.1, 0.5, 0.5));
+  for (double tilt : {-0.2, 0.0, 0.2}) {
+    const Quat q = rot(kPi / 2 + tilt * kPi / 180.0, Vec3::UnitZ());
+    const Manifold m = collideOne(bar, at(Vec3::Zero()), cap, at(Vec3(0.0, 0.58, 0), q));
+    ASSERT_EQ(m.pointCount, 2) << "tilt " << tilt;
+    expectNormal(m, Vec3::UnitY(), 1e-9);
+    const double dip = std::sin(std::abs(tilt) * kPi / 180.0) * 0.1;
+    for (int i = 0; i < 2; ++i) {
+      EXPECT_NEAR(std::abs(m.points[i].position.x()), 0.1, 1e-9) << "tilt " << tilt;
+      EXPECT_NEAR(m.points[i].separation, -0.02, dip + 1e-6) << "tilt " << tilt;
+    }
+  }
+}
+
 TEST(Generic, RoundedBoxRestsLikeSharpBox) {
   auto rounded = Shape::box(Vec3(0.4, 0.4, 0.4), 0.1);
   Manifold m = collideOne(kUnitBox, at(Vec3::Zero()), rounded, at(Vec3(0.1, 0.98, 0)));

@@ -29,7 +29,7 @@ const std::map<std::string, std::string> kGolden = {
     {"stack20", "9fc9dfc866c360a0"},
     {"ball_into_stack", "8783515f51b77a9f"},
     {"incline", "12d4ca2f18a7cc0c"},
-    {"mixed", "7bb32e6917498397"},
+    {"mixed", "bd32bc085abd83d0"},
 };
 // clang-format on
 
