@@ -5,7 +5,7 @@
 # time: it passes or fails on the code, not on luck. FUZZ_SECONDS=N fuzzes for N seconds with
 # a random seed instead (for finding new bugs locally).
 # New interesting inputs go to build-fuzz/corpus/<target>/ when hunting (kept between runs, not
-# committed) and to a fresh build-fuzz/run/<target>/ in a fixed-seed run.
+# committed); a fixed-seed run works in /tmp/grip-fuzz-stage/ (see below).
 # Exits non-zero on the first crash, leak or timeout; the input is kept in
 # build-fuzz/crashes/<target>/ (see docs/fuzzing.md for turning it into a regression test).
 # FUZZ_TARGETS="scene asset" runs a subset.
@@ -37,26 +37,44 @@ if setarch "$(uname -m)" -R true 2>/dev/null; then
 elif [ -z "${FUZZ_SECONDS:-}" ]; then
   echo "fuzz: cannot turn off address-space randomisation here; the run may differ from CI's" >&2
 fi
+# ...and the run must not see where the clone is or what the caller's environment holds: a
+# fixed-seed run copies the fuzzer and the committed corpus to one fixed directory and runs
+# there with a minimal environment (two clones at different paths, or one run from a shell
+# and one from CI, otherwise took different paths through CGAL from the same inputs).
+stage=/tmp/grip-fuzz-stage
+root=$(pwd)
 for t in "${targets[@]}"; do
-  # Hunting keeps what it finds in build-fuzz/corpus/; a fixed-seed run starts from the
-  # committed corpus alone (an empty build-fuzz/run/), as it does on a fresh clone.
-  found="build-fuzz/corpus/$t"
+  mkdir -p "build-fuzz/crashes/$t"
+  log="$root/build-fuzz/fuzz_$t.log"
   if [ -z "${FUZZ_SECONDS:-}" ]; then
-    budget=(-runs="$(runsFor "$t")" -seed="$seed")
-    found="build-fuzz/run/$t"
-    rm -rf "$found"
+    # A fixed-seed run starts from the committed corpus alone, as on a fresh clone; what it
+    # finds stays in the stage directory.
+    rm -rf "$stage" && mkdir -p "$stage/found" "$stage/crashes"
+    cp "build-fuzz/fuzz/fuzz_$t" "$stage/fuzz"
+    cp -r "fuzz/corpus/$t" "$stage/corpus"
+    run=(env -i PATH=/usr/bin:/bin LANG=C.UTF-8 "${norandom[@]}" ./fuzz -runs="$(runsFor "$t")"
+      -seed="$seed")
+    where=$stage
+    dirs=(found corpus)
+    artifacts=crashes/
+  else
+    # Hunting keeps what it finds in build-fuzz/corpus/ between runs.
+    mkdir -p "build-fuzz/corpus/$t"
+    run=("${norandom[@]}" "build-fuzz/fuzz/fuzz_$t" "${budget[@]}")
+    where=$root
+    dirs=("build-fuzz/corpus/$t" "fuzz/corpus/$t")
+    artifacts="build-fuzz/crashes/$t/"
   fi
-  mkdir -p "$found" "build-fuzz/crashes/$t"
-  log="build-fuzz/fuzz_$t.log"
   # -timeout: one input taking 10 s is a hang; -rss_limit_mb: an input may not need 2 GB.
-  if ! "${norandom[@]}" "build-fuzz/fuzz/fuzz_$t" "${budget[@]}" -reload=0 -timeout=10 -rss_limit_mb=2048 \
-      -print_final_stats=1 -artifact_prefix="build-fuzz/crashes/$t/" \
-      "$found" "fuzz/corpus/$t" >"$log" 2>&1; then
+  if ! (cd "$where" && "${run[@]}" -reload=0 -timeout=10 -rss_limit_mb=2048 \
+      -print_final_stats=1 -artifact_prefix="$artifacts" "${dirs[@]}") >"$log" 2>&1; then
+    [ "$where" = "$root" ] || cp "$stage"/crashes/* "build-fuzz/crashes/$t/" 2>/dev/null || true
     tail -n 60 "$log"
     echo "fuzz: $t FAILED (input in build-fuzz/crashes/$t/, log $log)" >&2
     exit 1
   fi
   executed=$(grep -o 'stat::number_of_executed_units: *[0-9]*' "$log" | grep -o '[0-9]*$' || echo '?')
   cov=$(grep -o 'cov: [0-9]*' "$log" | tail -n 1 | grep -o '[0-9]*' || echo '?')
-  echo "fuzz: $t ok ($what, $executed inputs, coverage $cov edges)"
+  ft=$(grep -o 'ft: [0-9]*' "$log" | tail -n 1 | grep -o '[0-9]*' || echo '?')
+  echo "fuzz: $t ok ($what, $executed inputs, coverage $cov edges, $ft features)"
 done
