@@ -83,6 +83,9 @@ struct WorldDef {
   double timeToSleep = 0.5;            // s below the thresholds before an island sleeps
   double maxLinearSpeed = 400.0;       // m/s, a guard against blow-ups
   double maxAngularSpeed = 200.0;      // rad/s, the same for spin (PhysX: 100, Jolt: 47)
+  // Threads a step may use, the caller's included (1..64). The narrowphase and the contact
+  // preparation are shared out; the result is bit-identical for any count (docs/performance.md).
+  int workerThreads = 1;
 };
 
 struct ContactEvent {

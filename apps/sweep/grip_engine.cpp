@@ -7,9 +7,10 @@ namespace grip::sweep {
 
 namespace {
 
-class GripSim final : public Sim {
+class GripSim : public Sim {
  public:
-  GripSim(const SceneDef& sc, const Settings& s) : world_(def(sc, s)), dt_(s.dt) {
+  GripSim(const SceneDef& sc, const Settings& s, int threads = 1)
+      : world_(def(sc, s, threads)), dt_(s.dt) {
     // The ground's friction is 1: grip combines by the geometric mean, and each solid is
     // given the square of its coefficient, so a pair gets the product (see SolidDef).
     if (sc.ground) scenes::addGround(world_, 1.0, 1.0);
@@ -35,8 +36,9 @@ class GripSim final : public Sim {
   Vec3 angularVelocity(int body) const override { return world_.angularVelocity(ids_[body]); }
 
  private:
-  static WorldDef def(const SceneDef& sc, const Settings& s) {
+  static WorldDef def(const SceneDef& sc, const Settings& s, int threads) {
     WorldDef d;
+    d.workerThreads = threads;
     d.gravity = sc.gravity;
     d.substeps = s.substeps;
     d.relaxIterations = s.iterations;
@@ -45,6 +47,12 @@ class GripSim final : public Sim {
   World world_;
   double dt_;
   std::vector<BodyId> ids_;
+};
+
+// The same engine sharing its narrowphase and contact preparation over two threads.
+class GripSim2 final : public GripSim {
+ public:
+  GripSim2(const SceneDef& sc, const Settings& s) : GripSim(sc, s, 2) {}
 };
 
 }  // namespace
@@ -68,6 +76,18 @@ Engine gripEngine() {
                                });
   e.hands = true;
   return e;
+}
+
+Engine gripTwoThreadEngine() {
+  const WorldDef d;
+  // Only the pile has enough pairs to be shared out; the small scenes would run as on one
+  // thread, so they are not repeated.
+  return engineOf<GripSim2>("grip-2t", {1.0 / 60.0, d.substeps, d.relaxIterations},
+                            [](const std::string& scene, bool quick) {
+                              if (scene != "pile") return std::vector<Settings>{};
+                              if (quick) return product({60, 240}, {1, 4}, {1});
+                              return product({30, 60, 120}, {1, 2, 4}, {1});
+                            });
 }
 
 }  // namespace grip::sweep

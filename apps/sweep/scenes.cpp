@@ -306,15 +306,14 @@ std::vector<Sample> run(const std::vector<Engine>& engines, const Options& o,
     for (const Engine& e : engines) {
       if (spec(name).needsHands && !e.hands) continue;
       std::vector<Settings> grid = e.grid(name, o.quick);
+      if (grid.empty()) continue;  // an engine that is not swept on this scene
       const bool hasDefault = std::any_of(grid.begin(), grid.end(), [&](const Settings& s) {
         return s.dt == e.defaults.dt && s.substeps == e.defaults.substeps &&
                s.iterations == e.defaults.iterations;
       });
       if (!hasDefault) grid.push_back(e.defaults);
-      // The pile is long: one timing run per setting is enough to read its front.
-      const int repeats = name == "pile" ? 1 : o.repeats;
       for (const Settings& s : grid) {
-        out.push_back(measure(e, name, s, o.quick, repeats));
+        out.push_back(measure(e, name, s, o.quick, o.repeats));
         if (progress) progress(out.back());
       }
     }

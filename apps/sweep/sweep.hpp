@@ -82,6 +82,8 @@ Engine engineOf(std::string name, Settings defaults,
 }
 
 Engine gripEngine();
+// grip with WorldDef::workerThreads = 2; swept on the pile only (the results equal grip's).
+Engine gripTwoThreadEngine();
 
 // Every combination of step rates (Hz), substeps and iterations: an engine's grid.
 std::vector<Settings> product(const std::vector<double>& ratesHz, const std::vector<int>& substeps,

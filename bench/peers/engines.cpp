@@ -10,6 +10,7 @@ std::vector<sweep::Engine> allEngines() {
 #ifdef GRIP_HAVE_ODE
   e.push_back(odeEngine());
 #endif
+  e.push_back(sweep::gripTwoThreadEngine());  // last: the chart's colours of the others stay
   return e;
 }
 

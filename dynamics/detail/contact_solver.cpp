@@ -23,6 +23,7 @@ using detail::SolverRow;
 
 namespace {
 
+constexpr int kColdPasses = 4;  // relax passes for a touching contact in its first step
 constexpr int kDirectRows =
     64;  // largest island (in normal rows) whose normals are solved directly
 
@@ -435,16 +436,18 @@ void warmStart(const SolverManifold& m, SolverBody& A, SolverBody& B) {
 
 // Friction first, against the current normal impulse; non-penetration last, so it has the
 // final word (as Jolt orders them; measured: normal-first lets tall stacks drift). A new
-// contact (no warm start) solves its normal first, so its friction is not judged against a
-// zero normal impulse; static friction may break only in a relax pass of a warm contact.
+// contact (no warm start) solves its normal before and after its friction; static friction
+// may break only in a relax pass of a warm contact.
 inline void solveManifold(SolverManifold& m, std::vector<SolverBody>& bodies,
                           const SolveContext& ctx, bool useBias, Moves moves = Moves::Both) {
   SolverBody& A = bodies[m.a];
   SolverBody& B = bodies[m.b];
   const bool mayBreak = !useBias && m.warm;
+  // A new contact's normal goes first too, so its friction is not judged against a zero
+  // normal impulse (the second solve takes out the tipping that friction at the patch adds).
   if (!m.warm) solveNormal(m, A, B, ctx, useBias, moves);
   solveFriction(m, A, B, ctx, useBias, moves, mayBreak);
-  if (m.warm) solveNormal(m, A, B, ctx, useBias, moves);
+  solveNormal(m, A, B, ctx, useBias, moves);
 }
 
 // Coupling of two normal rows through the bodies they share: J_i M^-1 J_j^T.
@@ -634,73 +637,85 @@ void World::Impl::solve(double dt) {
 }
 
 void World::Impl::prepareContacts() {
+  // The contacts with a body that moves take part; each is prepared on its own (in chunks on
+  // the workers, see workers.hpp).
   solverManifolds.clear();
-  int points = 0;
   for (size_t ci = 0; ci < contacts.size(); ++ci) {
-    ContactManifold& c = contacts[ci];
-    const Body &A = bodies[c.bodyA], &B = bodies[c.bodyB];
+    const Body &A = bodies[contacts[ci].bodyA], &B = bodies[contacts[ci].bodyB];
     if (A.solverIndex == 0 && B.solverIndex == 0) continue;
     if (!A.isDynamic() && !B.isDynamic()) continue;
-    SolverManifold& m = solverManifolds.emplace_back();
-    m.a = A.solverIndex, m.b = B.solverIndex, m.source = static_cast<int>(ci);
-    const Vec3 n = c.m.normal;
-    m.normal = n;
-    m.staticFriction = combineFriction(A.material.staticFriction, B.material.staticFriction);
-    m.dynamicFriction = combineFriction(A.material.dynamicFriction, B.material.dynamicFriction);
-    m.restitution = std::max(A.material.restitution, B.material.restitution);
-    m.count = c.m.pointCount;
-    const SolverBody &sa = solverBodies[m.a], &sb = solverBodies[m.b];
-    Vec3 centre = Vec3::Zero();
-    for (int k = 0; k < m.count; ++k) {
-      const ContactPoint& cp = c.m.points[k];
-      SolverPoint& p = m.p[k];
-      const Vec3 rA = cp.position - A.com, rB = cp.position - B.com;
-      p.normal = makeRow(sa, sb, n, rA.cross(n), rB.cross(n));
-      p.normal.impulse = c.state[k].normalImpulse;
-      m.warm |= p.normal.impulse > 0.0;
-      p.separation = cp.separation;
-      p.relativeVelocity = ((B.v + B.w.cross(rB)) - (A.v + A.w.cross(rA))).dot(n);
-      centre += cp.position;
-    }
-    centre /= m.count;
-    for (int k = 0; k < m.count; ++k) m.twistRadius += (c.m.points[k].position - centre).norm();
-    m.twistRadius /= m.count;
-    // Patch friction at the centre of the points.
-    Vec3 t1, t2;
-    tangentBasis(n, t1, t2);
-    const Vec3 rA = centre - A.com, rB = centre - B.com;
-    m.friction[0] = makeRow(sa, sb, t1, rA.cross(t1), rB.cross(t1));
-    m.friction[1] = makeRow(sa, sb, t2, rA.cross(t2), rB.cross(t2));
-    m.friction[2] = makeRow(sa, sb, Vec3::Zero(), n, n);
-    for (int r = 0; r < 3; ++r) m.friction[r].impulse = c.friction[r];
-    Vec3 patch[4];
-    for (int k = 0; k < m.count; ++k) patch[k] = c.m.points[k].position;
-    prepareBlock(m, sa, sb, rA, rB, patch, centre);
-    // The anchor: kept while the patch sticks and stays within the slop of it, else reset to
-    // the patch centre (a new or sliding patch starts from where it is).
-    if (c.anchored && !c.sliding) {
-      const Vec3 drift = B.pose.apply(c.anchorB) - A.pose.apply(c.anchorA);
-      m.anchorError[0] = drift.dot(t1), m.anchorError[1] = drift.dot(t2);
-      if (std::hypot(m.anchorError[0], m.anchorError[1]) > def.linearSlop) c.anchored = false;
-    }
-    if (!c.anchored || c.sliding) {
-      c.anchorA = A.pose.inverse().apply(centre), c.anchorB = B.pose.inverse().apply(centre);
-      c.anchored = true;
-      m.anchorError[0] = m.anchorError[1] = 0.0;
-    }
-    // Static friction while the patch rests, kinetic once it moves along the surface.
-    const Vec3 dv = (B.v + B.w.cross(rB)) - (A.v + A.w.cross(rA));
-    m.sliding = (dv - dv.dot(n) * n).norm() > def.stickVelocity;
-    for (int i = 0; i < m.count; ++i)
-      for (int j = 0; j < m.count; ++j)
-        m.K[i][j] = sa.invMass + sb.invMass + m.p[j].normal.angA.dot(m.p[i].normal.dwA) +
-                    m.p[j].normal.angB.dot(m.p[i].normal.dwB);
-    points += m.count;
+    solverManifolds.emplace_back().source = static_cast<int>(ci);
   }
+  constexpr size_t kPerChunk = 32;
+  const int chunks = static_cast<int>((solverManifolds.size() + kPerChunk - 1) / kPerChunk);
+  runChunks(chunks, [&](int chunk) {
+    const size_t end = std::min(solverManifolds.size(), size_t(chunk + 1) * kPerChunk);
+    for (size_t i = size_t(chunk) * kPerChunk; i < end; ++i) prepareManifold(solverManifolds[i]);
+  });
+  int points = 0;
+  for (const SolverManifold& m : solverManifolds) points += m.count;
   constraintCount = points;
   stats.manifolds = static_cast<int>(solverManifolds.size());
   stats.contactPoints = points;
   stats.awakeBodies = static_cast<int>(awakeBodies.size());
+}
+
+void World::Impl::prepareManifold(SolverManifold& m) {
+  ContactManifold& c = contacts[m.source];
+  const Body &A = bodies[c.bodyA], &B = bodies[c.bodyB];
+  m.a = A.solverIndex, m.b = B.solverIndex;
+  const Vec3 n = c.m.normal;
+  m.normal = n;
+  m.staticFriction = combineFriction(A.material.staticFriction, B.material.staticFriction);
+  m.dynamicFriction = combineFriction(A.material.dynamicFriction, B.material.dynamicFriction);
+  m.restitution = std::max(A.material.restitution, B.material.restitution);
+  m.count = c.m.pointCount;
+  const SolverBody &sa = solverBodies[m.a], &sb = solverBodies[m.b];
+  Vec3 centre = Vec3::Zero();
+  for (int k = 0; k < m.count; ++k) {
+    const ContactPoint& cp = c.m.points[k];
+    SolverPoint& p = m.p[k];
+    const Vec3 rA = cp.position - A.com, rB = cp.position - B.com;
+    p.normal = makeRow(sa, sb, n, rA.cross(n), rB.cross(n));
+    p.normal.impulse = c.state[k].normalImpulse;
+    m.warm |= p.normal.impulse > 0.0;
+    p.separation = cp.separation;
+    p.relativeVelocity = ((B.v + B.w.cross(rB)) - (A.v + A.w.cross(rA))).dot(n);
+    centre += cp.position;
+  }
+  centre /= m.count;
+  for (int k = 0; k < m.count; ++k) m.twistRadius += (c.m.points[k].position - centre).norm();
+  m.twistRadius /= m.count;
+  // Patch friction at the centre of the points.
+  Vec3 t1, t2;
+  tangentBasis(n, t1, t2);
+  const Vec3 rA = centre - A.com, rB = centre - B.com;
+  m.friction[0] = makeRow(sa, sb, t1, rA.cross(t1), rB.cross(t1));
+  m.friction[1] = makeRow(sa, sb, t2, rA.cross(t2), rB.cross(t2));
+  m.friction[2] = makeRow(sa, sb, Vec3::Zero(), n, n);
+  for (int r = 0; r < 3; ++r) m.friction[r].impulse = c.friction[r];
+  Vec3 patch[4];
+  for (int k = 0; k < m.count; ++k) patch[k] = c.m.points[k].position;
+  prepareBlock(m, sa, sb, rA, rB, patch, centre);
+  // The anchor: kept while the patch sticks and stays within the slop of it, else reset to
+  // the patch centre (a new or sliding patch starts from where it is).
+  if (c.anchored && !c.sliding) {
+    const Vec3 drift = B.pose.apply(c.anchorB) - A.pose.apply(c.anchorA);
+    m.anchorError[0] = drift.dot(t1), m.anchorError[1] = drift.dot(t2);
+    if (std::hypot(m.anchorError[0], m.anchorError[1]) > def.linearSlop) c.anchored = false;
+  }
+  if (!c.anchored || c.sliding) {
+    c.anchorA = A.pose.inverse().apply(centre), c.anchorB = B.pose.inverse().apply(centre);
+    c.anchored = true;
+    m.anchorError[0] = m.anchorError[1] = 0.0;
+  }
+  // Static friction while the patch rests, kinetic once it moves along the surface.
+  const Vec3 dv = (B.v + B.w.cross(rB)) - (A.v + A.w.cross(rA));
+  m.sliding = (dv - dv.dot(n) * n).norm() > def.stickVelocity;
+  for (int i = 0; i < m.count; ++i)
+    for (int j = 0; j < m.count; ++j)
+      m.K[i][j] = sa.invMass + sb.invMass + m.p[j].normal.angA.dot(m.p[i].normal.dwA) +
+                  m.p[j].normal.angB.dot(m.p[i].normal.dwB);
 }
 
 namespace {
@@ -916,6 +931,11 @@ void World::Impl::computeLevels() {
     const int extra = depth > 10 ? (2 * (depth - 10) + 4) / 5 : 0;
     const int room = std::max(0, def.maxRelaxIterations - def.relaxIterations);
     relaxPasses[i] = def.relaxIterations + std::min(extra, room);
+    // A contact that starts touching has no warm start: one pass leaves its normal, friction
+    // and tipping out of balance (a cube set on a slope jumped 0.5 mm and slid 2 % too far).
+    // A few more passes in its first step converge it; this step only, this contact only.
+    if (!m.warm && relaxPasses[i] > 0 && m.p[0].separation <= 0.0)
+      relaxPasses[i] = std::max(relaxPasses[i], std::min(kColdPasses, def.maxRelaxIterations));
   }
 
   // Gauss-Seidel cannot hold a heavy body on a light one: each pass moves the heavy body by

@@ -33,7 +33,8 @@ void World::step(double dt) {
 // ---- collide ------------------------------------------------------------------------------
 
 namespace {
-constexpr double kTouching = 1e-3;  // m: a manifold point this close counts as touching
+constexpr double kTouching = 1e-3;     // m: a manifold point this close counts as touching
+constexpr size_t kPairsPerChunk = 64;  // narrowphase pairs per chunk of work
 
 // Warm-start memory for a new point: the old point with the same feature id, else the
 // nearest old point within 5 mm (feature ids change when a face pair flips near a tie).
@@ -83,31 +84,71 @@ bool World::Impl::collide(double dt) {
   contacts.clear();
   previousSensorPairs.swap(sensorPairs);
   sensorPairs.clear();
-  bool woke = false;
   stats.candidatePairs = static_cast<int>(pairs.size());
 
-  for (const auto& [pa, pb] : pairs) {
-    const uint32_t ia = proxyBody[pa], ib = proxyBody[pb];
-    Body &A = bodies[ia], &B = bodies[ib];
+  // Narrowphase and warm-start matching: pure functions of the poses, run in chunks of pairs
+  // on the workers, each chunk into its own list. Waking (a side effect) follows, in pair order.
+  const int chunks = static_cast<int>((pairs.size() + kPairsPerChunk - 1) / kPairsPerChunk);
+  if (narrowphaseChunks.size() < static_cast<size_t>(chunks)) narrowphaseChunks.resize(chunks);
+  runChunks(chunks, [&](int chunk) {
+    const size_t end = std::min(pairs.size(), size_t(chunk + 1) * kPairsPerChunk);
+    narrowphase(size_t(chunk) * kPairsPerChunk, end, dt, narrowphaseChunks[chunk]);
+  });
+  bool woke = false;
+  for (int chunk = 0; chunk < chunks; ++chunk) {
+    const detail::NarrowphaseChunk& out = narrowphaseChunks[chunk];
+    sensorPairs.insert(sensorPairs.end(), out.sensorPairs.begin(), out.sensorPairs.end());
+    for (const ContactManifold& c : out.manifolds) {
+      const Body &A = bodies[c.bodyA], &B = bodies[c.bodyB];
+      if (c.touching && A.awake != B.awake) {
+        const uint32_t sleeper = A.awake ? c.bodyB : c.bodyA;
+        if (bodies[sleeper].isDynamic() && !bodies[sleeper].awake) {
+          wakeBody(sleeper);
+          woke = true;
+        }
+      }
+      contacts.push_back(c);
+    }
+  }
+  // Keep contacts between bodies that did not move (sleeping or static), in key order.
+  const size_t fresh = contacts.size();
+  for (const ContactManifold& c : previous)
+    if (carriesOver(bodies, c)) contacts.push_back(c);
+  auto less = [](const ContactManifold& x, const ContactManifold& y) { return x.keyLess(y); };
+  std::inplace_merge(contacts.begin(), contacts.begin() + static_cast<long>(fresh), contacts.end(),
+                     less);
+  if (woke) {  // collide again from the same warm-start memory
+    std::swap(previous, contacts);
+    previousSensorPairs.swap(sensorPairs);
+  }
+  return woke;
+}
+
+void World::Impl::narrowphase(size_t begin, size_t end, double dt,
+                              detail::NarrowphaseChunk& out) const {
+  out.manifolds.clear(), out.sensorPairs.clear();
+  for (size_t pair = begin; pair < end; ++pair) {
+    const uint32_t ia = proxyBody[pairs[pair].first], ib = proxyBody[pairs[pair].second];
+    const Body &A = bodies[ia], &B = bodies[ib];
     if (!A.isDynamic() && !B.isDynamic() && !A.sensor && !B.sensor) continue;
     if (A.sensor || B.sensor) {
       if (A.sensor && B.sensor) continue;
-      scratch.clear();
-      grip::collide(*A.shape, A.pose, *B.shape, B.pose, 0.0, scratch);
+      out.scratch.clear();
+      grip::collide(*A.shape, A.pose, *B.shape, B.pose, 0.0, out.scratch);
       bool overlapping = false;
-      for (const Manifold& m : scratch)
+      for (const Manifold& m : out.scratch)
         for (int k = 0; k < m.pointCount; ++k) overlapping |= m.points[k].separation < 0.0;
-      if (overlapping) sensorPairs.push_back({A.sensor ? ia : ib, A.sensor ? ib : ia});
+      if (overlapping) out.sensorPairs.push_back({A.sensor ? ia : ib, A.sensor ? ib : ia});
       continue;
     }
     // Speculative margin: the contact is made early enough to stop this step's approach.
     const double approach = (A.v.norm() + B.v.norm()) * dt;
     const double margin = def.speculativeDistance + std::min(approach, 1.0);
-    scratch.clear();
-    grip::collide(*A.shape, A.pose, *B.shape, B.pose, margin, scratch);
-    for (const Manifold& m : scratch) {
+    out.scratch.clear();
+    grip::collide(*A.shape, A.pose, *B.shape, B.pose, margin, out.scratch);
+    for (const Manifold& m : out.scratch) {
       if (m.pointCount == 0) continue;
-      ContactManifold c;
+      ContactManifold& c = out.manifolds.emplace_back();
       c.bodyA = ia, c.bodyB = ib, c.m = m;
       // Carry warm-start impulses over from last step by matching feature ids.
       auto it = std::lower_bound(
@@ -129,28 +170,17 @@ bool World::Impl::collide(double dt) {
       const double closing =
           -((B.v + B.w.cross(x - B.com)) - (A.v + A.w.cross(x - A.com))).dot(m.normal);
       c.approachSpeed = std::max(closing, found && !it->touching ? it->approachSpeed : 0.0);
-      if (c.touching && A.awake != B.awake) {
-        const uint32_t sleeper = A.awake ? ib : ia;
-        if (bodies[sleeper].isDynamic() && !bodies[sleeper].awake) {
-          wakeBody(sleeper);
-          woke = true;
-        }
-      }
-      contacts.push_back(c);
     }
   }
-  // Keep contacts between bodies that did not move (sleeping or static), in key order.
-  const size_t fresh = contacts.size();
-  for (const ContactManifold& c : previous)
-    if (carriesOver(bodies, c)) contacts.push_back(c);
-  auto less = [](const ContactManifold& x, const ContactManifold& y) { return x.keyLess(y); };
-  std::inplace_merge(contacts.begin(), contacts.begin() + static_cast<long>(fresh), contacts.end(),
-                     less);
-  if (woke) {  // collide again from the same warm-start memory
-    std::swap(previous, contacts);
-    previousSensorPairs.swap(sensorPairs);
+}
+
+void World::Impl::runChunks(int chunks, const std::function<void(int)>& task) {
+  if (def.workerThreads > 1 && chunks > 1) {
+    if (!workers) workers = std::make_unique<detail::Workers>(def.workerThreads);
+    workers->run(chunks, task);
+  } else {
+    for (int c = 0; c < chunks; ++c) task(c);
   }
-  return woke;
 }
 
 // ---- events -------------------------------------------------------------------------------

@@ -35,6 +35,8 @@ void validateWorldDef(const WorldDef& d) {
   requireNonNegative(d.timeToSleep, "WorldDef.timeToSleep");
   requirePositive(d.maxLinearSpeed, "WorldDef.maxLinearSpeed");
   requirePositive(d.maxAngularSpeed, "WorldDef.maxAngularSpeed");
+  if (d.workerThreads < 1 || d.workerThreads > 64)
+    throw Error("WorldDef.workerThreads", "must be in 1..64");
 }
 
 void validateMaterial(const MaterialDef& m, const char* staticF, const char* dynamicF,

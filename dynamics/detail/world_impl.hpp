@@ -3,10 +3,13 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "collision/broadphase.hpp"
+#include "dynamics/detail/workers.hpp"
 #include "dynamics/world.hpp"
 
 namespace grip::detail {
@@ -141,12 +144,21 @@ struct SolverManifold {
   double shockBlockInv[3][3] = {};
 };
 
+struct SensorPair;
+
 struct SensorPair {
   uint32_t sensor = 0, visitor = 0;
   bool operator<(const SensorPair& o) const {
     return sensor != o.sensor ? sensor < o.sensor : visitor < o.visitor;
   }
   bool operator==(const SensorPair& o) const { return sensor == o.sensor && visitor == o.visitor; }
+};
+
+// What one chunk of the narrowphase's pairs found (see World::Impl::narrowphase).
+struct NarrowphaseChunk {
+  std::vector<ContactManifold> manifolds;
+  std::vector<SensorPair> sensorPairs;
+  std::vector<Manifold> scratch;
 };
 
 }  // namespace grip::detail
@@ -167,7 +179,9 @@ struct World::Impl {
   std::vector<uint8_t> proxyActive;
   std::vector<uint32_t> proxyBody;
   std::vector<std::pair<uint32_t, uint32_t>> pairs;
-  std::vector<Manifold> scratch;
+  std::vector<Manifold> scratch;  // for queries
+  std::vector<detail::NarrowphaseChunk> narrowphaseChunks;
+  std::unique_ptr<detail::Workers> workers;  // made on first use when def.workerThreads > 1
 
   std::vector<detail::ContactManifold> contacts;  // sorted by key
   std::vector<detail::ContactManifold> previous;
@@ -192,9 +206,14 @@ struct World::Impl {
 
   // Stages of one step (see step.cpp).
   bool collide(double dt);  // true when it woke a sleeping body
+  void narrowphase(size_t beginPair, size_t endPair, double dt,
+                   detail::NarrowphaseChunk& out) const;
+  // task(chunk) for every chunk, on the workers when there are any (see workers.hpp).
+  void runChunks(int chunks, const std::function<void(int)>& task);
   void contactEvents();
   void solve(double dt);
   void prepareContacts();
+  void prepareManifold(detail::SolverManifold& m);  // m.source set
   void computeLevels();
   void prepareShock(size_t manifold);
   void projectPositions();

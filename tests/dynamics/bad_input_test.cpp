@@ -97,6 +97,17 @@ TEST(BadInput, ZeroOrNegativeMassesAndSizes) {
   WorldDef wd;
   wd.substeps = 0;
   EXPECT_THROW({ World w(wd); }, Error);
+  for (int threads : {0, -1, 65}) {
+    WorldDef t;
+    t.workerThreads = threads;
+    try {
+      World w(t);
+      ADD_FAILURE() << "workerThreads " << threads << " was accepted";
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find("WorldDef.workerThreads"), std::string::npos)
+          << e.what();
+    }
+  }
 }
 
 TEST(BadInput, UnknownAndStaleIds) {
