@@ -166,8 +166,8 @@ bool invertBlock(const SolverManifold& m, const SolverBody& a, const SolverBody&
       if (useB) k(i + 1, j + 1) += t[i]->dot(m.spinB[j]);
     }
   }
-  const double det = k.determinant();
-  if (!(det > 1e-12 * std::pow(k.trace(), 3))) return false;
+  const double det = k.determinant(), trace = k.trace();
+  if (!(det > 1e-12 * trace * trace * trace)) return false;
   const Mat3 inv = k.inverse();
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 3; ++j) out[i][j] = inv(i, j);
