@@ -23,7 +23,7 @@ using detail::SolverRow;
 
 namespace {
 
-constexpr int kColdPasses = 4;  // relax passes for a touching contact in its first step
+constexpr int kColdPasses = 4;  // relax passes for a touching new contact in its first substep
 constexpr int kDirectRows =
     64;  // largest island (in normal rows) whose normals are solved directly
 
@@ -582,8 +582,10 @@ void World::Impl::solve(double dt) {
 
   prepareContacts();
   computeLevels();
-  const int maxRelaxPasses =
-      relaxPasses.empty() ? 0 : *std::max_element(relaxPasses.begin(), relaxPasses.end());
+  auto most = [](const std::vector<int>& v) {
+    return v.empty() ? 0 : *std::max_element(v.begin(), v.end());
+  };
+  const int maxRelaxPasses = most(relaxPasses), maxFirstPasses = most(firstSubstepPasses);
 
   SolveContext ctx;
   ctx.invH = 1.0 / h, ctx.slop = def.linearSlop, ctx.pushout = def.maxPushoutVelocity;
@@ -610,11 +612,12 @@ void World::Impl::solve(double dt) {
     // one is a shock propagation pass (Guendelman et al. 2003): from the ground up, each
     // contact moves only the body farther from the ground, so a stack's support reaches its
     // top within one pass instead of diffusing slowly.
-    for (int r = 0; r < maxRelaxPasses; ++r) {
+    const std::vector<int>& passes = sub == 0 ? firstSubstepPasses : relaxPasses;
+    for (int r = 0; r < (sub == 0 ? maxFirstPasses : maxRelaxPasses); ++r) {
       for (size_t i = 0; i < solverManifolds.size(); ++i)
-        if (relaxPasses[i] > r + 1) solveManifold(solverManifolds[i], solverBodies, ctx, false);
+        if (passes[i] > r + 1) solveManifold(solverManifolds[i], solverBodies, ctx, false);
       for (int i : shockOrder) {
-        if (relaxPasses[i] != r + 1) continue;
+        if (passes[i] != r + 1) continue;
         SolverManifold& m = solverManifolds[i];
         solveManifold(m, solverBodies, ctx, false, static_cast<Moves>(m.shockMoves));
       }
@@ -924,6 +927,7 @@ void World::Impl::computeLevels() {
     islandHeaviest[r] = std::min(islandHeaviest[r], im);
   }
   relaxPasses.resize(solverManifolds.size());
+  firstSubstepPasses.resize(solverManifolds.size());
   for (size_t i = 0; i < solverManifolds.size(); ++i) {
     const SolverManifold& m = solverManifolds[i];
     const int body = solverBodies[m.a].invMass == 0.0 ? m.b : m.a;
@@ -933,9 +937,11 @@ void World::Impl::computeLevels() {
     relaxPasses[i] = def.relaxIterations + std::min(extra, room);
     // A contact that starts touching has no warm start: one pass leaves its normal, friction
     // and tipping out of balance (a cube set on a slope jumped 0.5 mm and slid 2 % too far).
-    // A few more passes in its first step converge it; this step only, this contact only.
+    // A few more passes in its first substep converge it; later substeps start warm.
+    firstSubstepPasses[i] = relaxPasses[i];
     if (!m.warm && relaxPasses[i] > 0 && m.p[0].separation <= 0.0)
-      relaxPasses[i] = std::max(relaxPasses[i], std::min(kColdPasses, def.maxRelaxIterations));
+      firstSubstepPasses[i] =
+          std::max(relaxPasses[i], std::min(kColdPasses, def.maxRelaxIterations));
   }
 
   // Gauss-Seidel cannot hold a heavy body on a light one: each pass moves the heavy body by

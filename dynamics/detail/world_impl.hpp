@@ -192,7 +192,8 @@ struct World::Impl {
   std::vector<detail::SolverManifold> solverManifolds;
   std::vector<int> levels, adjacencyStart, adjacency, shockOrder, fill, queue;  // shock order
   std::vector<int> islandOf, islandDepth, relaxPasses;  // relax passes per manifold
-  std::vector<double> islandLightest, islandHeaviest;   // inverse masses per island
+  std::vector<int> firstSubstepPasses;  // the same in the first substep (new contacts get more)
+  std::vector<double> islandLightest, islandHeaviest;  // inverse masses per island
   // Small islands of very unequal masses, solved directly (lists of manifold indices, each
   // list ended by -1), and per manifold whether it is in one.
   std::vector<int> directManifolds;
