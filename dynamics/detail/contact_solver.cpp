@@ -649,11 +649,8 @@ void World::Impl::prepareContacts() {
     if (!A.isDynamic() && !B.isDynamic()) continue;
     solverManifolds.emplace_back().source = static_cast<int>(ci);
   }
-  constexpr size_t kPerChunk = 32;
-  const int chunks = static_cast<int>((solverManifolds.size() + kPerChunk - 1) / kPerChunk);
-  runChunks(chunks, [&](int chunk) {
-    const size_t end = std::min(solverManifolds.size(), size_t(chunk + 1) * kPerChunk);
-    for (size_t i = size_t(chunk) * kPerChunk; i < end; ++i) prepareManifold(solverManifolds[i]);
+  inChunks(solverManifolds.size(), 32, [&](size_t begin, size_t end, size_t) {
+    for (size_t i = begin; i < end; ++i) prepareManifold(solverManifolds[i]);
   });
   int points = 0;
   for (const SolverManifold& m : solverManifolds) points += m.count;

@@ -88,14 +88,13 @@ bool World::Impl::collide(double dt) {
 
   // Narrowphase and warm-start matching: pure functions of the poses, run in chunks of pairs
   // on the workers, each chunk into its own list. Waking (a side effect) follows, in pair order.
-  const int chunks = static_cast<int>((pairs.size() + kPairsPerChunk - 1) / kPairsPerChunk);
-  if (narrowphaseChunks.size() < static_cast<size_t>(chunks)) narrowphaseChunks.resize(chunks);
-  runChunks(chunks, [&](int chunk) {
-    const size_t end = std::min(pairs.size(), size_t(chunk + 1) * kPairsPerChunk);
-    narrowphase(size_t(chunk) * kPairsPerChunk, end, dt, narrowphaseChunks[chunk]);
+  const size_t chunks = (pairs.size() + kPairsPerChunk - 1) / kPairsPerChunk;
+  if (narrowphaseChunks.size() < chunks) narrowphaseChunks.resize(chunks);
+  inChunks(pairs.size(), kPairsPerChunk, [&](size_t begin, size_t end, size_t chunk) {
+    narrowphase(begin, end, dt, narrowphaseChunks[chunk]);
   });
   bool woke = false;
-  for (int chunk = 0; chunk < chunks; ++chunk) {
+  for (size_t chunk = 0; chunk < chunks; ++chunk) {
     const detail::NarrowphaseChunk& out = narrowphaseChunks[chunk];
     sensorPairs.insert(sensorPairs.end(), out.sensorPairs.begin(), out.sensorPairs.end());
     for (const ContactManifold& c : out.manifolds) {
@@ -174,12 +173,18 @@ void World::Impl::narrowphase(size_t begin, size_t end, double dt,
   }
 }
 
-void World::Impl::runChunks(int chunks, const std::function<void(int)>& task) {
+void World::Impl::inChunks(size_t count, size_t perChunk,
+                           const std::function<void(size_t, size_t, size_t)>& task) {
+  const size_t chunks = (count + perChunk - 1) / perChunk;
+  auto one = [&](int chunk) {
+    const size_t c = static_cast<size_t>(chunk);
+    task(c * perChunk, std::min(count, (c + 1) * perChunk), c);
+  };
   if (def.workerThreads > 1 && chunks > 1) {
     if (!workers) workers = std::make_unique<detail::Workers>(def.workerThreads);
-    workers->run(chunks, task);
+    workers->run(static_cast<int>(chunks), one);
   } else {
-    for (int c = 0; c < chunks; ++c) task(c);
+    for (size_t c = 0; c < chunks; ++c) one(static_cast<int>(c));
   }
 }
 

@@ -209,8 +209,10 @@ struct World::Impl {
   bool collide(double dt);  // true when it woke a sleeping body
   void narrowphase(size_t beginPair, size_t endPair, double dt,
                    detail::NarrowphaseChunk& out) const;
-  // task(chunk) for every chunk, on the workers when there are any (see workers.hpp).
-  void runChunks(int chunks, const std::function<void(int)>& task);
+  // task(begin, end, chunk) for [0, count) cut into chunks of perChunk, on the workers when
+  // there are any and more than one chunk (see workers.hpp).
+  void inChunks(size_t count, size_t perChunk,
+                const std::function<void(size_t, size_t, size_t)>& task);
   void contactEvents();
   void solve(double dt);
   void prepareContacts();
