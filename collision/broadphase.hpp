@@ -1,6 +1,8 @@
-// Broadphase: sort-and-sweep over AABBs along the axis of largest spread. Chosen over a
-// dynamic tree because grip's scenes rebuild every step anyway and a sweep over a nearly
-// sorted array is cache friendly and trivially deterministic (see docs/performance.md).
+// Broadphase: sort-and-sweep over AABBs along the axis of largest spread, in strips across
+// the next axis (a sweep over one axis alone meets every proxy in the same slab: in a pile,
+// a whole row of every layer). Chosen over a dynamic tree because grip's scenes rebuild every
+// step anyway and a sweep over a nearly sorted array is cache friendly and trivially
+// deterministic (see docs/performance.md).
 #pragma once
 
 #include <cstdint>
@@ -22,13 +24,16 @@ class SweepBroadphase {
   // A proxy as the sweep reads it, in sweep order: the inner loop walks memory in a line.
   struct Swept {
     double start, end;              // along the sweep axis
-    double min1, max1, min2, max2;  // along the other two axes
+    double min1, max1, min2, max2;  // along the other two axes (axis 1 is cut in strips)
     uint32_t proxy;
+    uint32_t strip;  // the strip the proxy starts in
     uint8_t active;
   };
   std::vector<uint32_t> order_;  // kept between calls: nearly sorted next time
-  std::vector<double> keys_;
-  std::vector<Swept> swept_;
+  std::vector<double> keys_, widths_;
+  std::vector<uint8_t> wide_;  // tested against every proxy, not in strips
+  std::vector<uint32_t> stripLo_, stripHi_, stripStart_, fill_, bigs_;
+  std::vector<Swept> swept_;  // each strip's proxies in sweep order, strip after strip
 };
 
 }  // namespace grip

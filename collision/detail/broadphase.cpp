@@ -1,8 +1,17 @@
 #include "collision/broadphase.hpp"
 
 #include <algorithm>
+#include <cmath>
+#include <limits>
 
 namespace grip {
+
+namespace {
+
+// A proxy wider than this many strips along some axis is tested against every proxy.
+constexpr double kBigStrips = 8.0;
+
+}  // namespace
 
 void SweepBroadphase::findPairs(const std::vector<Aabb>& boxes, const std::vector<uint8_t>& active,
                                 std::vector<std::pair<uint32_t, uint32_t>>& pairs) {
@@ -10,17 +19,41 @@ void SweepBroadphase::findPairs(const std::vector<Aabb>& boxes, const std::vecto
   const uint32_t n = static_cast<uint32_t>(boxes.size());
   if (n < 2) return;
 
-  // Sweep along the axis where the centres spread most.
-  Vec3 mean = Vec3::Zero(), meanSq = Vec3::Zero();
-  for (const Aabb& b : boxes) {
-    const Vec3 c = b.center();
-    mean += c;
-    meanSq += c.cwiseProduct(c);
+  // Wide proxies (the ground, a table: wider than kBigStrips strips along some axis, or with a
+  // NaN bound) are few; they are tested against every proxy and take no part in the rest.
+  Vec3 strip;  // twice the median width along each axis
+  widths_.resize(n);
+  for (int k = 0; k < 3; ++k) {
+    for (uint32_t i = 0; i < n; ++i) {
+      const double w = boxes[i].max[k] - boxes[i].min[k];
+      widths_[i] = std::isnan(w) ? std::numeric_limits<double>::infinity() : w;  // sortable
+    }
+    std::nth_element(widths_.begin(), widths_.begin() + n / 2, widths_.end());
+    strip[k] = 2.0 * widths_[n / 2];
   }
-  const Vec3 variance = meanSq / n - (mean / n).cwiseProduct(mean / n);
+  wide_.resize(n);
+  for (uint32_t i = 0; i < n; ++i) {
+    const Vec3 w = boxes[i].max - boxes[i].min;
+    wide_[i] = !((boxes[i].min.array() <= boxes[i].max.array()).all() && w.allFinite() &&
+                 (w.array() <= kBigStrips * strip.array()).all());
+  }
+
+  // Sweep along the axis where the centres spread most; cut the next one into strips.
+  Vec3 mean = Vec3::Zero(), meanSq = Vec3::Zero();
+  uint32_t narrow = 0;
+  for (uint32_t i = 0; i < n; ++i) {
+    if (wide_[i]) continue;
+    const Vec3 c = boxes[i].center();
+    mean += c, meanSq += c.cwiseProduct(c);
+    ++narrow;
+  }
+  const double count = std::max(narrow, 1u);
+  const Vec3 variance = meanSq / count - (mean / count).cwiseProduct(mean / count);
   int axis = 0;
   if (variance.y() > variance[axis]) axis = 1;
   if (variance.z() > variance[axis]) axis = 2;
+  int axis1 = (axis + 1) % 3, axis2 = (axis + 2) % 3;
+  if (variance[axis2] > variance[axis1]) std::swap(axis1, axis2);
 
   // Keep last call's order: insertion sort on a nearly sorted array is close to linear.
   if (order_.size() != n) {
@@ -28,7 +61,8 @@ void SweepBroadphase::findPairs(const std::vector<Aabb>& boxes, const std::vecto
     for (uint32_t i = 0; i < n; ++i) order_[i] = i;
   }
   keys_.resize(n);
-  for (uint32_t i = 0; i < n; ++i) keys_[i] = boxes[i].min[axis];
+  for (uint32_t i = 0; i < n; ++i)  // wide proxies first (a NaN key would break the order)
+    keys_[i] = wide_[i] ? -std::numeric_limits<double>::infinity() : boxes[i].min[axis];
   auto less = [&](uint32_t a, uint32_t b) {
     return keys_[a] < keys_[b] || (keys_[a] == keys_[b] && a < b);
   };
@@ -42,21 +76,67 @@ void SweepBroadphase::findPairs(const std::vector<Aabb>& boxes, const std::vecto
     order_[j] = v;
   }
 
-  const int axis1 = (axis + 1) % 3, axis2 = (axis + 2) % 3;
-  swept_.resize(n);
+  // Strips across axis1: a sweep along one axis alone meets every proxy in the same slab (a
+  // pile's whole row, all layers); in strips it meets the proxy's neighbours. A pair is
+  // reported in the strip where the later of its two starts along axis1 falls, so once.
+  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
   for (uint32_t i = 0; i < n; ++i) {
-    const Aabb& b = boxes[order_[i]];
-    swept_[i] = {b.min[axis],  b.max[axis],  b.min[axis1], b.max[axis1],
-                 b.min[axis2], b.max[axis2], order_[i],    active[order_[i]]};
+    if (wide_[i]) continue;
+    lo = std::min(lo, boxes[i].min[axis1]), hi = std::max(hi, boxes[i].max[axis1]);
   }
+  double width = strip[axis1];
+  if (!(width > 0.0 && std::isfinite(width))) width = hi > lo ? hi - lo : 1.0;
+  if (hi > lo) width = std::max(width, (hi - lo) / n);  // at most n + 1 strips
+  stripLo_.resize(n), stripHi_.resize(n);
+  uint32_t stripCount = 0;
   for (uint32_t i = 0; i < n; ++i) {
-    const Swept& a = swept_[i];
-    for (uint32_t j = i + 1; j < n; ++j) {
-      const Swept& b = swept_[j];
-      if (b.start > a.end) break;
-      if (!(a.active | b.active)) continue;
-      if (a.min1 > b.max1 || b.min1 > a.max1 || a.min2 > b.max2 || b.min2 > a.max2) continue;
-      pairs.emplace_back(std::min(a.proxy, b.proxy), std::max(a.proxy, b.proxy));
+    if (wide_[i]) continue;
+    stripLo_[i] = static_cast<uint32_t>((boxes[i].min[axis1] - lo) / width);
+    stripHi_[i] = static_cast<uint32_t>((boxes[i].max[axis1] - lo) / width);
+    stripCount = std::max(stripCount, stripHi_[i] + 1);
+  }
+  // Each strip's proxies in sweep order (a counting sort by strip, stable).
+  bigs_.clear();
+  stripStart_.assign(stripCount + 1, 0);
+  for (uint32_t i = 0; i < n; ++i) {
+    if (wide_[i]) continue;
+    for (uint32_t s = stripLo_[i]; s <= stripHi_[i]; ++s) ++stripStart_[s + 1];
+  }
+  for (uint32_t s = 0; s < stripCount; ++s) stripStart_[s + 1] += stripStart_[s];
+  swept_.resize(stripStart_[stripCount]);
+  fill_.assign(stripStart_.begin(), stripStart_.end() - 1);
+  for (uint32_t k = 0; k < n; ++k) {
+    const uint32_t i = order_[k];
+    if (wide_[i]) {
+      bigs_.push_back(i);
+      continue;
+    }
+    const Aabb& b = boxes[i];
+    const Swept entry{b.min[axis],  b.max[axis], b.min[axis1], b.max[axis1], b.min[axis2],
+                      b.max[axis2], i,           stripLo_[i],  active[i]};
+    for (uint32_t s = stripLo_[i]; s <= stripHi_[i]; ++s) swept_[fill_[s]++] = entry;
+  }
+
+  for (uint32_t s = 0; s < stripCount; ++s) {
+    const uint32_t end = stripStart_[s + 1];
+    for (uint32_t i = stripStart_[s]; i < end; ++i) {
+      const Swept& a = swept_[i];
+      for (uint32_t j = i + 1; j < end; ++j) {
+        const Swept& b = swept_[j];
+        if (b.start > a.end) break;
+        if (!(a.active | b.active)) continue;
+        if (a.min1 > b.max1 || b.min1 > a.max1 || a.min2 > b.max2 || b.min2 > a.max2) continue;
+        if (std::max(a.strip, b.strip) != s) continue;  // reported in another strip
+        pairs.emplace_back(std::min(a.proxy, b.proxy), std::max(a.proxy, b.proxy));
+      }
+    }
+  }
+  // The wide proxies against everything (each pair of two wide ones once).
+  for (uint32_t g : bigs_) {
+    for (uint32_t i = 0; i < n; ++i) {
+      if (i == g || (wide_[i] && i < g)) continue;
+      if (!(active[g] | active[i]) || !boxes[g].overlaps(boxes[i])) continue;
+      pairs.emplace_back(std::min(g, i), std::max(g, i));
     }
   }
   std::sort(pairs.begin(), pairs.end());

@@ -1,0 +1,111 @@
+// The broadphase against the definition: every pair of overlapping boxes with an active
+// member, once, sorted, and nothing else.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <random>
+
+#include "collision/broadphase.hpp"
+
+namespace grip {
+namespace {
+
+using Pairs = std::vector<std::pair<uint32_t, uint32_t>>;
+
+Pairs bruteForce(const std::vector<Aabb>& boxes, const std::vector<uint8_t>& active) {
+  Pairs pairs;
+  for (uint32_t i = 0; i < boxes.size(); ++i)
+    for (uint32_t j = i + 1; j < boxes.size(); ++j) {
+      const Aabb &a = boxes[i], &b = boxes[j];
+      bool overlap = active[i] || active[j];
+      for (int k = 0; k < 3; ++k) overlap &= a.min[k] <= b.max[k] && b.min[k] <= a.max[k];
+      if (overlap) pairs.emplace_back(i, j);
+    }
+  return pairs;
+}
+
+Aabb boxAt(const Vec3& centre, const Vec3& half) {
+  return {centre - half, centre + half};
+}
+
+TEST(Broadphase, APileFindsExactlyTheOverlappingPairs) {
+  // Cubes in a 12 x 12 x 8 lattice with jitter, so rows and layers touch their neighbours.
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> jitter(-0.03, 0.03);
+  std::vector<Aabb> boxes;
+  std::vector<uint8_t> active;
+  for (int x = 0; x < 12; ++x)
+    for (int y = 0; y < 8; ++y)
+      for (int z = 0; z < 12; ++z) {
+        const Vec3 c(0.21 * x + jitter(rng), 0.2 * y + jitter(rng), 0.21 * z + jitter(rng));
+        boxes.push_back(boxAt(c, Vec3::Constant(0.1 + 0.02 * jitter(rng))));
+        active.push_back((x + y + z) % 5 != 0);
+      }
+  boxes.push_back({Vec3(-1e15, -1e15, -1e15), Vec3(1e15, 0.0, 1e15)});  // the ground
+  active.push_back(0);
+  SweepBroadphase broadphase;
+  Pairs pairs;
+  broadphase.findPairs(boxes, active, pairs);
+  const Pairs expected = bruteForce(boxes, active);
+  EXPECT_GT(expected.size(), 2000u);
+  EXPECT_EQ(pairs, expected);
+  // Again and again after moves (the sweep keeps its state between calls), one box stretched
+  // as a fast one is.
+  for (int call = 0; call < 3; ++call) {
+    for (Aabb& b : boxes) b.min.x() += 0.05, b.max.x() += 0.05;
+    boxes[5] = boxAt(Vec3(1.0, 0.5, 1.0), Vec3(0.3, 0.3 + 2.0 * call, 0.3));
+    broadphase.findPairs(boxes, active, pairs);
+    EXPECT_EQ(pairs, bruteForce(boxes, active)) << "call " << call;
+  }
+}
+
+TEST(Broadphase, WideInfiniteAndInvalidBoxesArePairedByDefinition) {
+  // A plane's box is infinite, a table spans many strips, a NaN box overlaps nothing, and far
+  // bodies make the strips sparse.
+  constexpr double inf = std::numeric_limits<double>::infinity();
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u(-5.0, 5.0);
+  std::vector<Aabb> boxes;
+  std::vector<uint8_t> active;
+  boxes.push_back({Vec3(-inf, -inf, -inf), Vec3(inf, 0.0, inf)});  // a ground plane
+  active.push_back(0);
+  boxes.push_back(boxAt(Vec3(0, 0.5, 0), Vec3(3.0, 0.05, 3.0)));  // a table
+  active.push_back(0);
+  boxes.push_back(boxAt(Vec3(0, 0.5, 0), Vec3(2.5, 0.05, 2.5)));  // a plank across the strips
+  active.push_back(1);
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  boxes.push_back({Vec3(nan, 0, 0), Vec3(1, 1, 1)});
+  active.push_back(1);
+  for (int i = 0; i < 300; ++i) {
+    boxes.push_back(boxAt(Vec3(u(rng), u(rng) * 0.2, u(rng)), Vec3(0.1, 0.1, 0.15)));
+    active.push_back(i % 3 != 0);
+  }
+  boxes.push_back(boxAt(Vec3(1e6, 0, 1e6), Vec3::Constant(0.1)));  // far away
+  active.push_back(1);
+  boxes.push_back(boxAt(Vec3(1e6, 0, 1e6 + 0.1), Vec3::Constant(0.1)));
+  active.push_back(1);
+  SweepBroadphase broadphase;
+  Pairs pairs;
+  broadphase.findPairs(boxes, active, pairs);
+  const Pairs expected = bruteForce(boxes, active);
+  EXPECT_EQ(pairs, expected);
+  EXPECT_NE(std::find(pairs.begin(), pairs.end(), std::make_pair(1u, 2u)), pairs.end());
+  const uint32_t far = static_cast<uint32_t>(boxes.size() - 2);
+  EXPECT_NE(std::find(pairs.begin(), pairs.end(), std::make_pair(far, far + 1)), pairs.end());
+  for (const auto& p : pairs) EXPECT_TRUE(p.first != 3u && p.second != 3u);
+}
+
+TEST(Broadphase, IdenticalBoxesAllPair) {
+  // Zero median width along every axis: all boxes are points at one place.
+  std::vector<Aabb> boxes(20, Aabb{Vec3::Zero(), Vec3::Zero()});
+  std::vector<uint8_t> active(20, 1);
+  SweepBroadphase broadphase;
+  Pairs pairs;
+  broadphase.findPairs(boxes, active, pairs);
+  EXPECT_EQ(pairs.size(), 20u * 19u / 2u);
+  EXPECT_EQ(pairs, bruteForce(boxes, active));
+}
+
+}  // namespace
+}  // namespace grip
