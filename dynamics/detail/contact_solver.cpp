@@ -621,10 +621,25 @@ void World::Impl::solve(double dt) {
     }
   };
 
+  // A manifold whose rows wait (prepareRows) is solved once the bounds no longer show it idle;
+  // until then solving it would change nothing.
+  auto ready = [&](size_t i, bool useBias) {
+    SolverManifold& m = solverManifolds[i];
+    if (m.rowsReady) return true;
+    const SolverBody &A = solverBodies[m.a], &B = solverBodies[m.b];
+    if (idleByBounds(m, A, B, ctx, useBias, m.normal.dot(B.v - A.v), m.normal.dot(B.dp - A.dp)))
+      return false;
+    prepareRows(m);
+    prepareShock(i);
+    return true;
+  };
+
   for (int sub = 0; sub < substeps; ++sub) {
     integrateVelocities(h);
-    for (SolverManifold& m : solverManifolds) warmStart(m, solverBodies[m.a], solverBodies[m.b]);
-    for (SolverManifold& m : solverManifolds) solveManifold(m, solverBodies, ctx, true);
+    for (SolverManifold& m : solverManifolds)  // a manifold without rows holds no impulse
+      if (m.rowsReady) warmStart(m, solverBodies[m.a], solverBodies[m.b]);
+    for (size_t i = 0; i < solverManifolds.size(); ++i)
+      if (ready(i, true)) solveManifold(solverManifolds[i], solverBodies, ctx, true);
     solveDirectIslands(ctx, true);
     integratePositions(h);
     // Relax passes; each island runs its own number of them (computeLevels), and its last
@@ -634,9 +649,10 @@ void World::Impl::solve(double dt) {
     const std::vector<int>& passes = sub == 0 ? firstSubstepPasses : relaxPasses;
     for (int r = 0; r < (sub == 0 ? maxFirstPasses : maxRelaxPasses); ++r) {
       for (size_t i = 0; i < solverManifolds.size(); ++i)
-        if (passes[i] > r + 1) solveManifold(solverManifolds[i], solverBodies, ctx, false);
+        if (passes[i] > r + 1 && ready(i, false))
+          solveManifold(solverManifolds[i], solverBodies, ctx, false);
       for (int i : shockOrder) {
-        if (passes[i] != r + 1) continue;
+        if (passes[i] != r + 1 || !ready(i, false)) continue;
         SolverManifold& m = solverManifolds[i];
         solveManifold(m, solverBodies, ctx, false, static_cast<Moves>(m.shockMoves));
       }
@@ -689,39 +705,32 @@ void World::Impl::prepareManifold(SolverManifold& m) {
   m.dynamicFriction = combineFriction(A.material.dynamicFriction, B.material.dynamicFriction);
   m.restitution = std::max(A.material.restitution, B.material.restitution);
   m.count = c.m.pointCount;
-  const SolverBody &sa = solverBodies[m.a], &sb = solverBodies[m.b];
-  Vec3 centre = Vec3::Zero();
+  bool pushed = false;
   double reachA2 = 0.0, reachB2 = 0.0;
   m.minSeparation = std::numeric_limits<double>::infinity();
+  m.patchCentre = Vec3::Zero();
   for (int k = 0; k < m.count; ++k) {
     const ContactPoint& cp = c.m.points[k];
     SolverPoint& p = m.p[k];
-    const Vec3 rA = cp.position - A.com, rB = cp.position - B.com;
-    p.normal = makeRow(sa, sb, n, rA.cross(n), rB.cross(n));
-    reachA2 = std::max(reachA2, p.normal.angA.squaredNorm());
-    reachB2 = std::max(reachB2, p.normal.angB.squaredNorm());
-    m.minSeparation = std::min(m.minSeparation, cp.separation);
     p.normal.impulse = c.state[k].normalImpulse;
-    m.warm |= p.normal.impulse > 0.0;
+    pushed |= p.normal.impulse != 0.0;
     p.separation = cp.separation;
-    p.relativeVelocity = ((B.v + B.w.cross(rB)) - (A.v + A.w.cross(rA))).dot(n);
-    centre += cp.position;
+    m.minSeparation = std::min(m.minSeparation, cp.separation);
+    reachA2 = std::max(reachA2, (cp.position - A.com).cross(n).squaredNorm());
+    reachB2 = std::max(reachB2, (cp.position - B.com).cross(n).squaredNorm());
+    m.patchCentre += cp.position;
   }
+  m.warm = pushed;
   m.reachA = std::sqrt(reachA2), m.reachB = std::sqrt(reachB2);
-  centre /= m.count;
-  for (int k = 0; k < m.count; ++k) m.twistRadius += (c.m.points[k].position - centre).norm();
-  m.twistRadius /= m.count;
+  m.patchCentre /= m.count;
+  const Vec3& centre = m.patchCentre;
   // Patch friction at the centre of the points.
-  Vec3 t1, t2;
-  tangentBasis(n, t1, t2);
-  const Vec3 rA = centre - A.com, rB = centre - B.com;
-  m.friction[0] = makeRow(sa, sb, t1, rA.cross(t1), rB.cross(t1));
-  m.friction[1] = makeRow(sa, sb, t2, rA.cross(t2), rB.cross(t2));
-  m.friction[2] = makeRow(sa, sb, Vec3::Zero(), n, n);
-  for (int r = 0; r < 3; ++r) m.friction[r].impulse = c.friction[r];
-  Vec3 patch[4];
-  for (int k = 0; k < m.count; ++k) patch[k] = c.m.points[k].position;
-  prepareBlock(m, sa, sb, rA, rB, patch, centre);
+  tangentBasis(n, m.friction[0].lin, m.friction[1].lin);
+  const Vec3 &t1 = m.friction[0].lin, &t2 = m.friction[1].lin;
+  for (int r = 0; r < 3; ++r) {
+    m.friction[r].impulse = c.friction[r];
+    pushed |= c.friction[r] != 0.0;
+  }
   // The anchor: kept while the patch sticks and stays within the slop of it, else reset to
   // the patch centre (a new or sliding patch starts from where it is).
   if (c.anchored && !c.sliding) {
@@ -735,12 +744,53 @@ void World::Impl::prepareManifold(SolverManifold& m) {
     m.anchorError[0] = m.anchorError[1] = 0.0;
   }
   // Static friction while the patch rests, kinetic once it moves along the surface.
+  const Vec3 rA = centre - A.com, rB = centre - B.com;
   const Vec3 dv = (B.v + B.w.cross(rB)) - (A.v + A.w.cross(rA));
   m.sliding = (dv - dv.dot(n) * n).norm() > def.stickVelocity;
+  // A gap that held no impulse may never push this step (a third of a pile's manifolds): its
+  // rows wait until a solve cannot rule that out from the bounds (prepareRows).
+  m.rowsReady = false;
+  if (pushed || !(m.minSeparation > 0.0) || m.restitution != 0.0) prepareRows(m);
+}
+
+// The solver rows of a manifold: one normal row per point, the patch friction rows, the
+// points' coupling K and the exact patch solve. The same whenever it runs in the step: it reads
+// only the bodies as they were at the step's start.
+void World::Impl::prepareRows(SolverManifold& m) {
+  const ContactManifold& c = contacts[m.source];
+  const Body &A = bodies[c.bodyA], &B = bodies[c.bodyB];
+  const SolverBody &sa = solverBodies[m.a], &sb = solverBodies[m.b];
+  const Vec3& n = m.normal;
+  const Vec3& centre = m.patchCentre;
+  for (int k = 0; k < m.count; ++k) {
+    const ContactPoint& cp = c.m.points[k];
+    SolverPoint& p = m.p[k];
+    const Vec3 rA = cp.position - A.com, rB = cp.position - B.com;
+    const double impulse = p.normal.impulse;
+    p.normal = makeRow(sa, sb, n, rA.cross(n), rB.cross(n));
+    p.normal.impulse = impulse;
+    p.relativeVelocity = ((B.v + B.w.cross(rB)) - (A.v + A.w.cross(rA))).dot(n);
+  }
+  m.twistRadius = 0.0;
+  for (int k = 0; k < m.count; ++k) m.twistRadius += (c.m.points[k].position - centre).norm();
+  m.twistRadius /= m.count;
+  const Vec3 t1 = m.friction[0].lin, t2 = m.friction[1].lin;
+  const Vec3 rA = centre - A.com, rB = centre - B.com;
+  for (int r = 0; r < 3; ++r) {
+    const double impulse = m.friction[r].impulse;
+    const Vec3 t = r == 0 ? t1 : r == 1 ? t2 : Vec3::Zero();
+    m.friction[r] =
+        r < 2 ? makeRow(sa, sb, t, rA.cross(t), rB.cross(t)) : makeRow(sa, sb, Vec3::Zero(), n, n);
+    m.friction[r].impulse = impulse;
+  }
+  Vec3 patch[4];
+  for (int k = 0; k < m.count; ++k) patch[k] = c.m.points[k].position;
+  prepareBlock(m, sa, sb, rA, rB, patch, centre);
   for (int i = 0; i < m.count; ++i)
     for (int j = 0; j < m.count; ++j)
       m.K[i][j] = sa.invMass + sb.invMass + m.p[j].normal.angA.dot(m.p[i].normal.dwA) +
                   m.p[j].normal.angB.dot(m.p[i].normal.dwB);
+  m.rowsReady = true;
 }
 
 namespace {
@@ -845,6 +895,12 @@ void World::Impl::projectPositions() {
     for (int i : shockOrder) {
       SolverManifold& m = solverManifolds[i];
       SolverBody &A = solverBodies[m.a], &B = solverBodies[m.b];
+      if (!m.rowsReady) {  // no point can be deeper than the bound (margin as in idleByBounds)
+        const double gap = m.minSeparation + m.normal.dot(B.dp - A.dp) -
+                           m.reachA * A.dtheta.norm() - m.reachB * B.dtheta.norm();
+        if (gap > 1e-12 - def.positionSlop) continue;
+        prepareRows(m);
+      }
       for (int k = 0; k < m.count; ++k) {
         const SolverRow& r = m.p[k].normal;
         const double s = m.p[k].separation + r.lin.dot(B.dp - A.dp) + r.angB.dot(B.dtheta) -
@@ -987,6 +1043,7 @@ void World::Impl::computeLevels() {
     if (islandLightest[r] <= kUnequalMass * islandHeaviest[r]) continue;
     tagged.emplace_back(r, static_cast<int>(i));
     solvedDirectly[i] = 1;
+    if (!solverManifolds[i].rowsReady) prepareRows(solverManifolds[i]);
     // Measured: anchor springs between a light and a heavy body feed a slowly growing
     // sideways rocking (1000:1, after 3 s); these patches rely on velocity friction alone.
     solverManifolds[i].anchored = false;
@@ -1011,7 +1068,7 @@ void World::Impl::prepareShock(size_t i) {
   Moves moves = la < lb ? Moves::OnlyB : lb < la ? Moves::OnlyA : Moves::Both;
   if (solvedDirectly[i]) moves = Moves::Both, m.block = false, m.direct = true;
   m.shockMoves = static_cast<uint8_t>(moves);
-  if (moves == Moves::Both) return;
+  if (moves == Moves::Both || !m.rowsReady) return;  // else again after prepareRows
   const SolverBody &A = solverBodies[m.a], &B = solverBodies[m.b];
   for (int k = 0; k < m.count; ++k) {
     const SolverRow& r = m.p[k].normal;

@@ -125,6 +125,8 @@ struct SolverManifold {
   // Bounds for skipping a manifold that cannot push (solveNormal): the smallest separation at
   // the step's start and the largest |r x n| of a point on each body.
   double minSeparation = 0.0, reachA = 0.0, reachB = 0.0;
+  Vec3 patchCentre = Vec3::Zero();
+  bool rowsReady = false;              // the rows, K and the patch solve are prepared (prepareRows)
   SolverRow friction[3];               // tangent 1, tangent 2, twist
   double anchorError[2] = {0.0, 0.0};  // tangential drift from the anchor at the step's start
   bool anchored = true;                // whether the drift is pulled back (static friction)
@@ -220,6 +222,7 @@ struct World::Impl {
   void solve(double dt);
   void prepareContacts();
   void prepareManifold(detail::SolverManifold& m);  // m.source set
+  void prepareRows(detail::SolverManifold& m);
   void computeLevels();
   void prepareShock(size_t manifold);
   void projectPositions();
