@@ -227,19 +227,16 @@ bool boxBox(const Shape& a, const Transform& ta, const Shape& b, const Transform
   const bool useB = clearlyBetter(sepB, sepA, slop);
   const double faceSep = useB ? sepB : sepA;
   if (!clearlyBetter(sepE, faceSep, slop)) {
-    Feature ref, inc;
     if (!useB) {
-      const Vec3 n = RA.col(axisA) * (d[axisA] >= 0.0 ? 1.0 : -1.0);
-      detail::supportingFeature(a, ta, n, ref);
-      detail::supportingFeature(b, tb, -n, inc);
-      m.normal = n;
-      return detail::clipFeatures(ref, inc, true, 0.0, 0.0, margin, m) > 0;
+      const bool positive = d[axisA] >= 0.0;
+      m.normal = RA.col(axisA) * (positive ? 1.0 : -1.0);
+      return detail::clipBoxFaces(hA, RA, ta.p, axisA, positive, hB, C, d, true, margin, m) > 0;
     }
-    const Vec3 n = RB.col(axisB) * (d.dot(C.col(axisB)) >= 0.0 ? 1.0 : -1.0);  // A to B
-    detail::supportingFeature(b, tb, -n, ref);
-    detail::supportingFeature(a, ta, n, inc);
-    m.normal = n;
-    return detail::clipFeatures(ref, inc, false, 0.0, 0.0, margin, m) > 0;
+    const bool towardsB = d.dot(C.col(axisB)) >= 0.0;
+    m.normal = RB.col(axisB) * (towardsB ? 1.0 : -1.0);  // A to B; B's face points against it
+    const Mat3 CT = C.transpose();
+    return detail::clipBoxFaces(hB, RB, tb.p, axisB, !towardsB, hA, CT, -(CT * d), false, margin,
+                                m) > 0;
   }
 
   // Edge against edge: the two supporting edges' closest points (in A's frame).

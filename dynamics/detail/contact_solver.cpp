@@ -373,36 +373,37 @@ void solveNormal(SolverManifold& m, SolverBody& A, SolverBody& B, const SolveCon
   const double linearVelocity = n.dot(B.v - A.v), linearShift = n.dot(B.dp - A.dp);
   if (idleByBounds(m, A, B, ctx, useBias, linearVelocity, linearShift)) return;
   const Softness& soft = (m.a == 0 || m.b == 0) ? ctx.staticSoft : ctx.soft;
-  const bool both = moves == Moves::Both;
-  const double(*K)[4] = both ? m.K : m.shockK;
-  double vn[4], bias[4], massScale[4], impulseScale[4], mass[4], delta[4] = {0, 0, 0, 0};
+  double vn[4], bias[4], delta[4] = {0, 0, 0, 0};
   bool rigid = true, idle = true;
+  uint8_t softRows = 0;  // bit k: row k pushes out softly
   int speculative = 0;
   for (int k = 0; k < m.count; ++k) {
     const SolverRow& r = m.p[k].normal;
     // Current separation, linearised in the bodies' motion since the step began.
     const double s = m.p[k].separation + linearShift + r.angB.dot(B.dtheta) - r.angA.dot(A.dtheta);
-    bias[k] = 0.0, massScale[k] = 1.0, impulseScale[k] = 0.0;
+    bias[k] = 0.0;
     if (s > 0.0) {
       bias[k] = s * ctx.invH;  // speculative: may close the gap, no more
     } else if (useBias && s < -ctx.slop) {
       // Overlap beyond the slop: pushed out softly. Within the slop the contact is rigid.
       bias[k] = std::max(soft.biasRate * (s + ctx.slop), -ctx.pushout);
-      massScale[k] = soft.massScale;
-      impulseScale[k] = soft.impulseScale;
+      softRows |= 1u << k;
+      rigid = false;
     }
     vn[k] = linearVelocity + r.angB.dot(B.w) - r.angA.dot(A.w);
-    // Restitution answers the fastest approach before an impulse: the substep of impact
-    // closes faster than the step's start did (by up to g dt at 60 Hz: 4 % of a 1 m drop).
-    if (useBias) m.p[k].relativeVelocity = std::min(m.p[k].relativeVelocity, vn[k]);
-    mass[k] = both ? r.mass : m.shockNormalMass[k];
-    rigid &= massScale[k] == 1.0;
     speculative += s > 0.0;
     idle &= m.p[k].normal.impulse == 0.0 && vn[k] + bias[k] >= 0.0;
   }
+  // Restitution answers the fastest approach before an impulse: the substep of impact
+  // closes faster than the step's start did (by up to g dt at 60 Hz: 4 % of a 1 m drop).
+  if (useBias && m.restitution != 0.0)
+    for (int k = 0; k < m.count; ++k)
+      m.p[k].relativeVelocity = std::min(m.p[k].relativeVelocity, vn[k]);
   if (idle) return;  // nothing pushes and nothing closes faster than allowed
   // Rigid rows are solved exactly where a guess of the pushing points holds: a face's four
   // points in the patch basis, fewer by a small dense solve. Else Gauss-Seidel sweeps.
+  const bool both = moves == Moves::Both;
+  const double(*K)[4] = both ? m.K : m.shockK;
   bool exact = false;
   if (rigid && !m.direct) {
     if (m.block && (speculative == 0 || speculative == m.count) &&
@@ -410,14 +411,23 @@ void solveNormal(SolverManifold& m, SolverBody& A, SolverBody& B, const SolveCon
       return;
     exact = solveNormalActive(m, K, vn, bias, delta);
   }
-  const int sweeps = exact ? 0 : m.count > 1 ? ctx.manifoldSweeps : 1;
-  for (int it = 0; it < sweeps; ++it) {
+  if (!exact) {
+    double massScale[4], impulseScale[4], mass[4];
     for (int k = 0; k < m.count; ++k) {
-      double v = vn[k];
-      for (int j = 0; j < m.count; ++j) v += K[k][j] * delta[j];
-      const double total = m.p[k].normal.impulse + delta[k];
-      const double impulse = -mass[k] * massScale[k] * (v + bias[k]) - impulseScale[k] * total;
-      delta[k] = std::max(total + impulse, 0.0) - m.p[k].normal.impulse;
+      const bool softRow = softRows & (1u << k);
+      massScale[k] = softRow ? soft.massScale : 1.0;
+      impulseScale[k] = softRow ? soft.impulseScale : 0.0;
+      mass[k] = both ? m.p[k].normal.mass : m.shockNormalMass[k];
+    }
+    const int sweeps = m.count > 1 ? ctx.manifoldSweeps : 1;
+    for (int it = 0; it < sweeps; ++it) {
+      for (int k = 0; k < m.count; ++k) {
+        double v = vn[k];
+        for (int j = 0; j < m.count; ++j) v += K[k][j] * delta[j];
+        const double total = m.p[k].normal.impulse + delta[k];
+        const double impulse = -mass[k] * massScale[k] * (v + bias[k]) - impulseScale[k] * total;
+        delta[k] = std::max(total + impulse, 0.0) - m.p[k].normal.impulse;
+      }
     }
   }
   // Apply the four impulses as one: their sum along n and their angular effects.

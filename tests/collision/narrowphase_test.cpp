@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <random>
 
+#include "collision/detail/manifold.hpp"
 #include "collision/narrowphase.hpp"
 #include "test_util.hpp"
 
@@ -591,4 +592,57 @@ TEST(Generic, RandomHullPenetrationMatchesBruteForceSat) {
     ++compared;
   }
   EXPECT_GT(compared, 100);
+}
+
+TEST(BoxBox, FaceClippingInTheBoxFrameMatchesTheGeneralClipper) {
+  // Random face-on pairs (tilted, offset, different sizes, either box as the reference): the
+  // box-frame clipper gives the general one's points, depths and feature ids.
+  std::mt19937 rng(5);
+  auto u = [&] { return static_cast<double>(rng()) / 4294967295.0 * 2.0 - 1.0; };
+  int compared = 0, reduced = 0;
+  for (int k = 0; k < 2000; ++k) {
+    const Vec3 hA(0.3 + 0.2 * u(), 0.3 + 0.2 * u(), 0.3 + 0.2 * u());
+    const Vec3 hB(0.3 + 0.2 * u(), 0.3 + 0.2 * u(), 0.3 + 0.2 * u());
+    Quat qa(u(), u(), u(), u());
+    qa.normalize();
+    const Mat3 RA = qa.toRotationMatrix();
+    const int axis = k % 3;
+    const bool positive = (k / 3) % 2 == 0;
+    const Vec3 n = RA.col(axis) * (positive ? 1.0 : -1.0);
+    const Quat tilt(Eigen::AngleAxisd(0.3 * u(), Vec3(u(), u(), u()).normalized()));
+    const Quat qb = tilt * qa * Quat(Eigen::AngleAxisd(kPi / 2 * (k % 4), Vec3::UnitY()));
+    const Vec3 pa(u(), u(), u());
+    const Vec3 pb = pa + n * (hA[axis] + hB.maxCoeff() * 0.8 + 0.05 * u()) +
+                    RA.col((axis + 1) % 3) * 0.4 * u() + RA.col((axis + 2) % 3) * 0.4 * u();
+    const bool refIsA = k % 5 != 0;
+    const Vec3 &hRef = refIsA ? hA : hB, &hInc = refIsA ? hB : hA;
+    const Transform tRef{refIsA ? pa : pb, refIsA ? qa : qb.normalized()};
+    const Transform tInc{refIsA ? pb : pa, refIsA ? qb.normalized() : qa};
+    const Mat3 RRef = tRef.q.toRotationMatrix(), RInc = tInc.q.toRotationMatrix();
+    // The reference face: the reference box's face most along the direction to the other.
+    const Vec3 toInc = RRef.transpose() * (tInc.p - tRef.p);
+    int refAxis = 0;
+    for (int j = 1; j < 3; ++j)
+      if (std::abs(toInc[j]) > std::abs(toInc[refAxis])) refAxis = j;
+    const bool refPositive = toInc[refAxis] >= 0.0;
+    const Vec3 refNormal = RRef.col(refAxis) * (refPositive ? 1.0 : -1.0);
+    auto refShape = Shape::box(hRef), incShape = Shape::box(hInc);
+    detail::Feature ref, inc;
+    detail::supportingFeature(*refShape, tRef, refNormal, ref);
+    detail::supportingFeature(*incShape, tInc, -refNormal, inc);
+    Manifold general, boxFrame;
+    const int n1 = detail::clipFeatures(ref, inc, refIsA, 0.0, 0.0, 0.1, general);
+    const int n2 = detail::clipBoxFaces(hRef, RRef, tRef.p, refAxis, refPositive, hInc,
+                                        RRef.transpose() * RInc, toInc, refIsA, 0.1, boxFrame);
+    ASSERT_EQ(n2, n1) << k;
+    for (int i = 0; i < n1; ++i) {
+      EXPECT_EQ(boxFrame.points[i].featureId, general.points[i].featureId) << k;
+      EXPECT_NEAR(boxFrame.points[i].separation, general.points[i].separation, 1e-12) << k;
+      EXPECT_LT((boxFrame.points[i].position - general.points[i].position).norm(), 1e-12) << k;
+    }
+    compared += n1 > 0;
+    reduced += n1 == 4;
+  }
+  EXPECT_GT(compared, 1000);
+  EXPECT_GT(reduced, 300);
 }
