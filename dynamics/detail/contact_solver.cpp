@@ -687,13 +687,17 @@ void World::Impl::solve(double dt) {
 void World::Impl::prepareContacts() {
   // The contacts with a body that moves take part; each is prepared on its own (in chunks on
   // the workers, see workers.hpp).
-  solverManifolds.clear();
+  // The list keeps its manifolds from the last step (2 KB each, not built anew): each field
+  // is set again by prepareManifold.
+  size_t count = 0;
   for (size_t ci = 0; ci < contacts.size(); ++ci) {
     const Body &A = bodies[contacts[ci].bodyA], &B = bodies[contacts[ci].bodyB];
     if (A.solverIndex == 0 && B.solverIndex == 0) continue;
     if (!A.isDynamic() && !B.isDynamic()) continue;
-    solverManifolds.emplace_back().source = static_cast<int>(ci);
+    if (count == solverManifolds.size()) solverManifolds.emplace_back();
+    solverManifolds[count++].source = static_cast<int>(ci);
   }
+  solverManifolds.resize(count);
   inChunks(solverManifolds.size(), 32, [&](size_t begin, size_t end, size_t) {
     for (size_t i = begin; i < end; ++i) prepareManifold(solverManifolds[i]);
   });
@@ -715,6 +719,7 @@ void World::Impl::prepareManifold(SolverManifold& m) {
   m.dynamicFriction = combineFriction(A.material.dynamicFriction, B.material.dynamicFriction);
   m.restitution = std::max(A.material.restitution, B.material.restitution);
   m.count = c.m.pointCount;
+  m.anchored = true, m.block = false, m.direct = false;
   bool pushed = false;
   double reachA2 = 0.0, reachB2 = 0.0;
   m.minSeparation = std::numeric_limits<double>::infinity();
@@ -723,6 +728,7 @@ void World::Impl::prepareManifold(SolverManifold& m) {
     const ContactPoint& cp = c.m.points[k];
     SolverPoint& p = m.p[k];
     p.normal.impulse = c.state[k].normalImpulse;
+    p.maxNormalImpulse = 0.0;
     pushed |= p.normal.impulse != 0.0;
     p.separation = cp.separation;
     m.minSeparation = std::min(m.minSeparation, cp.separation);
@@ -779,7 +785,8 @@ void World::Impl::prepareRows(SolverManifold& m) {
     const double impulse = p.normal.impulse;
     p.normal = makeRow(sa, sb, n, rA.cross(n), rB.cross(n));
     p.normal.impulse = impulse;
-    p.relativeVelocity = ((B.v + B.w.cross(rB)) - (A.v + A.w.cross(rA))).dot(n);
+    if (m.restitution != 0.0)  // read only by bouncy manifolds
+      p.relativeVelocity = ((B.v + B.w.cross(rB)) - (A.v + A.w.cross(rA))).dot(n);
   }
   m.twistRadius = 0.0;
   for (int k = 0; k < m.count; ++k) m.twistRadius += (c.m.points[k].position - centre).norm();
@@ -835,9 +842,11 @@ void World::Impl::integrateVelocities(double h) {
     if (!b.isDynamic()) continue;
     s.v += h *
            (b.invMass * tameLoad(b.force) + b.gravityScale * def.gravity + tameLoad(b.linearAccel));
-    const Mat3 R = (s.dq * b.pose.q).toRotationMatrix();
-    s.w += h * (R * (b.invInertiaLocal * (R.transpose() * tameLoad(b.torque))) +
-                tameLoad(b.angularAccel));
+    if (!b.torque.isZero() || !b.angularAccel.isZero()) {  // most bodies: gravity only
+      const Mat3 R = (s.dq * b.pose.q).toRotationMatrix();
+      s.w += h * (R * (b.invInertiaLocal * (R.transpose() * tameLoad(b.torque))) +
+                  tameLoad(b.angularAccel));
+    }
     s.v *= 1.0 / (1.0 + h * b.linearDamping);
     s.w *= 1.0 / (1.0 + h * b.angularDamping);
     s.v = limitLength(s.v, def.maxLinearSpeed);
