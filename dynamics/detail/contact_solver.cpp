@@ -353,8 +353,10 @@ inline bool idleByBounds(const SolverManifold& m, const SolverBody& A, const Sol
                          const SolveContext& ctx, bool useBias, double linearVelocity,
                          double linearShift) {
   if (useBias && m.restitution != 0.0) return false;
-  for (int k = 0; k < m.count; ++k)
-    if (m.p[k].normal.impulse != 0.0) return false;
+  // A manifold without rows holds no impulse (prepareManifold); one with rows is checked.
+  if (m.rowsReady)
+    for (int k = 0; k < m.count; ++k)
+      if (m.p[k].normal.impulse != 0.0) return false;
   const double gap =
       m.minSeparation + linearShift - m.reachA * A.dtheta.norm() - m.reachB * B.dtheta.norm();
   if (!(gap > 1e-12)) return false;
