@@ -32,7 +32,7 @@ class SweepBroadphase {
   std::vector<uint32_t> order_;  // kept between calls: nearly sorted next time
   std::vector<double> keys_, widths_;
   std::vector<uint8_t> wide_;  // tested against every proxy, not in strips
-  std::vector<uint32_t> stripLo_, stripHi_, stripStart_, fill_, bigs_;
+  std::vector<uint32_t> stripLo_, stripHi_, stripStart_, fill_, wideList_;
   std::vector<Swept> swept_;  // each strip's proxies in sweep order, strip after strip
 };
 

@@ -9,7 +9,7 @@ namespace grip {
 namespace {
 
 // A proxy wider than this many strips along some axis is tested against every proxy.
-constexpr double kBigStrips = 8.0;
+constexpr double kWideStrips = 8.0;
 
 }  // namespace
 
@@ -19,7 +19,7 @@ void SweepBroadphase::findPairs(const std::vector<Aabb>& boxes, const std::vecto
   const uint32_t n = static_cast<uint32_t>(boxes.size());
   if (n < 2) return;
 
-  // Wide proxies (the ground, a table: wider than kBigStrips strips along some axis, or with a
+  // Wide proxies (the ground, a table: wider than kWideStrips strips along some axis, or with a
   // NaN bound) are few; they are tested against every proxy and take no part in the rest.
   Vec3 strip;  // twice the median width along each axis
   widths_.resize(n);
@@ -35,7 +35,7 @@ void SweepBroadphase::findPairs(const std::vector<Aabb>& boxes, const std::vecto
   for (uint32_t i = 0; i < n; ++i) {
     const Vec3 w = boxes[i].max - boxes[i].min;
     wide_[i] = !((boxes[i].min.array() <= boxes[i].max.array()).all() && w.allFinite() &&
-                 (w.array() <= kBigStrips * strip.array()).all());
+                 (w.array() <= kWideStrips * strip.array()).all());
   }
 
   // Sweep along the axis where the centres spread most; cut the next one into strips.
@@ -96,7 +96,7 @@ void SweepBroadphase::findPairs(const std::vector<Aabb>& boxes, const std::vecto
     stripCount = std::max(stripCount, stripHi_[i] + 1);
   }
   // Each strip's proxies in sweep order (a counting sort by strip, stable).
-  bigs_.clear();
+  wideList_.clear();
   stripStart_.assign(stripCount + 1, 0);
   for (uint32_t i = 0; i < n; ++i) {
     if (wide_[i]) continue;
@@ -108,7 +108,7 @@ void SweepBroadphase::findPairs(const std::vector<Aabb>& boxes, const std::vecto
   for (uint32_t k = 0; k < n; ++k) {
     const uint32_t i = order_[k];
     if (wide_[i]) {
-      bigs_.push_back(i);
+      wideList_.push_back(i);
       continue;
     }
     const Aabb& b = boxes[i];
@@ -132,7 +132,7 @@ void SweepBroadphase::findPairs(const std::vector<Aabb>& boxes, const std::vecto
     }
   }
   // The wide proxies against everything (each pair of two wide ones once).
-  for (uint32_t g : bigs_) {
+  for (uint32_t g : wideList_) {
     for (uint32_t i = 0; i < n; ++i) {
       if (i == g || (wide_[i] && i < g)) continue;
       if (!(active[g] | active[i]) || !boxes[g].overlaps(boxes[i])) continue;

@@ -722,7 +722,7 @@ void World::Impl::prepareManifold(SolverManifold& m) {
   m.restitution = std::max(A.material.restitution, B.material.restitution);
   m.count = c.m.pointCount;
   m.anchored = true, m.block = false, m.direct = false;
-  bool pushed = false;
+  m.warm = false;
   double reachA2 = 0.0, reachB2 = 0.0;
   m.minSeparation = std::numeric_limits<double>::infinity();
   m.patchCentre = Vec3::Zero();
@@ -731,23 +731,23 @@ void World::Impl::prepareManifold(SolverManifold& m) {
     SolverPoint& p = m.p[k];
     p.normal.impulse = c.state[k].normalImpulse;
     p.maxNormalImpulse = 0.0;
-    pushed |= p.normal.impulse != 0.0;
+    m.warm |= p.normal.impulse != 0.0;
     p.separation = cp.separation;
     m.minSeparation = std::min(m.minSeparation, cp.separation);
     reachA2 = std::max(reachA2, (cp.position - A.com).cross(n).squaredNorm());
     reachB2 = std::max(reachB2, (cp.position - B.com).cross(n).squaredNorm());
     m.patchCentre += cp.position;
   }
-  m.warm = pushed;
   m.reachA = std::sqrt(reachA2), m.reachB = std::sqrt(reachB2);
   m.patchCentre /= m.count;
   const Vec3& centre = m.patchCentre;
   // Patch friction at the centre of the points.
   tangentBasis(n, m.friction[0].lin, m.friction[1].lin);
   const Vec3 &t1 = m.friction[0].lin, &t2 = m.friction[1].lin;
+  bool heldFriction = false;
   for (int r = 0; r < 3; ++r) {
     m.friction[r].impulse = c.friction[r];
-    pushed |= c.friction[r] != 0.0;
+    heldFriction |= c.friction[r] != 0.0;
   }
   // The anchor: kept while the patch sticks and stays within the slop of it, else reset to
   // the patch centre (a new or sliding patch starts from where it is).
@@ -768,7 +768,7 @@ void World::Impl::prepareManifold(SolverManifold& m) {
   // A gap that held no impulse may never push this step (a third of a pile's manifolds): its
   // rows wait until a solve cannot rule that out from the bounds (prepareRows).
   m.rowsReady = false;
-  if (pushed || !(m.minSeparation > 0.0) || m.restitution != 0.0) prepareRows(m);
+  if (m.warm || heldFriction || !(m.minSeparation > 0.0) || m.restitution != 0.0) prepareRows(m);
 }
 
 // The solver rows of a manifold: one normal row per point, the patch friction rows, the
@@ -793,15 +793,13 @@ void World::Impl::prepareRows(SolverManifold& m) {
   m.twistRadius = 0.0;
   for (int k = 0; k < m.count; ++k) m.twistRadius += (c.m.points[k].position - centre).norm();
   m.twistRadius /= m.count;
-  const Vec3 t1 = m.friction[0].lin, t2 = m.friction[1].lin;
+  const Vec3 t1 = m.friction[0].lin, t2 = m.friction[1].lin;  // set by prepareManifold
   const Vec3 rA = centre - A.com, rB = centre - B.com;
-  for (int r = 0; r < 3; ++r) {
-    const double impulse = m.friction[r].impulse;
-    const Vec3 t = r == 0 ? t1 : r == 1 ? t2 : Vec3::Zero();
-    m.friction[r] =
-        r < 2 ? makeRow(sa, sb, t, rA.cross(t), rB.cross(t)) : makeRow(sa, sb, Vec3::Zero(), n, n);
-    m.friction[r].impulse = impulse;
-  }
+  const double impulses[3] = {m.friction[0].impulse, m.friction[1].impulse, m.friction[2].impulse};
+  m.friction[0] = makeRow(sa, sb, t1, rA.cross(t1), rB.cross(t1));
+  m.friction[1] = makeRow(sa, sb, t2, rA.cross(t2), rB.cross(t2));
+  m.friction[2] = makeRow(sa, sb, Vec3::Zero(), n, n);
+  for (int r = 0; r < 3; ++r) m.friction[r].impulse = impulses[r];
   Vec3 patch[4];
   for (int k = 0; k < m.count; ++k) patch[k] = c.m.points[k].position;
   prepareBlock(m, sa, sb, rA, rB, patch, centre);
