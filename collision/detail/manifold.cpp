@@ -6,8 +6,25 @@
 namespace grip::detail {
 namespace {
 
-// Faces of a box as vertex loops, CCW seen from outside. Face 2k is +axis k, 2k+1 is -axis k.
-// Built from the face centre and two edge vectors: no per-corner rotation.
+// A box face's corners from its centre c and half-edge vectors eu, ew (along the axes after
+// `axis`), CCW seen from outside, each with its vertex id: bit k set where the corner lies on
+// the + side of box axis k. CCW about +axis because e_u x e_w = e_axis.
+constexpr int su[4] = {-1, 1, 1, -1}, sw[4] = {-1, -1, 1, 1};  // corners' (u, w) signs
+
+template <class Add>
+void faceCorners(int axis, bool positive, const Vec3& c, const Vec3& eu, const Vec3& ew, Add add) {
+  const int u = (axis + 1) % 3, w = (axis + 2) % 3;
+  for (int corner = 0; corner < 4; ++corner) {
+    const int k = positive ? corner : 3 - corner;
+    uint32_t bits = positive ? (1u << axis) : 0u;
+    if (su[k] > 0) bits |= 1u << u;
+    if (sw[k] > 0) bits |= 1u << w;
+    add(c + eu * su[k] + ew * sw[k], bits);
+  }
+}
+
+// Faces of a box as vertex loops. Face 2k is +axis k, 2k+1 is -axis k. Built from the face
+// centre and two edge vectors: no per-corner rotation.
 void boxFace(const Shape& s, const Transform& t, const Mat3& R, int axis, bool positive,
              Feature& out) {
   const Vec3& h = s.halfExtents();
@@ -15,17 +32,9 @@ void boxFace(const Shape& s, const Transform& t, const Mat3& R, int axis, bool p
   const double sign = positive ? 1.0 : -1.0;
   out.normal = R.col(axis) * sign;
   const Vec3 c = t.p + out.normal * h[axis];
-  const Vec3 eu = R.col(u) * h[u], ew = R.col(w) * h[w];
-  // Corners in (u, w) sign order; CCW about +axis because e_u x e_w = e_axis.
-  static constexpr int su[4] = {-1, 1, 1, -1}, sw[4] = {-1, -1, 1, 1};
   out.count = 0;
-  for (int corner = 0; corner < 4; ++corner) {
-    const int k = positive ? corner : 3 - corner;
-    uint32_t bits = positive ? (1u << axis) : 0u;
-    if (su[k] > 0) bits |= 1u << u;
-    if (sw[k] > 0) bits |= 1u << w;
-    out.add(c + eu * su[k] + ew * sw[k], bits);
-  }
+  faceCorners(axis, positive, c, R.col(u) * h[u], R.col(w) * h[w],
+              [&](const Vec3& p, uint32_t id) { out.add(p, id); });
   out.face = static_cast<uint32_t>(2 * axis + (positive ? 0 : 1));
 }
 
@@ -117,16 +126,17 @@ uint32_t crossingId(uint32_t from, int side) {
   return (from & ~0xFFu) | static_cast<uint32_t>((side + 1) & 0xFF);
 }
 
-// Sutherland-Hodgman against one plane (x - o) . sideN <= 0. A segment (2 points) is clipped
-// as a segment, not as a closed loop.
-void clipAgainst(const ClipList& in, const Vec3& o, const Vec3& sideN, int side, ClipList& out) {
+// Sutherland-Hodgman against one side, keeping the points where dist(p) <= 0. A segment
+// (2 points) is clipped as a segment, not as a closed loop.
+template <class Dist>
+void clipAgainst(const ClipList& in, Dist dist, int side, ClipList& out) {
   out.n = 0;
   if (in.n == 1) {
-    if ((in.v[0].p - o).dot(sideN) <= 0.0) out.add(in.v[0].p, in.v[0].id);
+    if (dist(in.v[0].p) <= 0.0) out.add(in.v[0].p, in.v[0].id);
     return;
   }
   if (in.n == 2) {
-    const double d0 = (in.v[0].p - o).dot(sideN), d1 = (in.v[1].p - o).dot(sideN);
+    const double d0 = dist(in.v[0].p), d1 = dist(in.v[1].p);
     if (d0 > 0.0 && d1 > 0.0) return;
     // The crossing point is only formed when one end is outside (then d0 != d1).
     const Vec3 x = (d0 > 0.0 || d1 > 0.0)
@@ -136,11 +146,11 @@ void clipAgainst(const ClipList& in, const Vec3& o, const Vec3& sideN, int side,
     out.add(d1 <= 0.0 ? in.v[1].p : x, d1 <= 0.0 ? in.v[1].id : crossingId(in.v[0].id, side));
     return;
   }
-  std::array<double, kMaxClip> dist;
-  for (int i = 0; i < in.n; ++i) dist[i] = (in.v[i].p - o).dot(sideN);
+  std::array<double, kMaxClip> d;
+  for (int i = 0; i < in.n; ++i) d[i] = dist(in.v[i].p);
   for (int i = 0, next = 1; i < in.n; ++i, ++next) {
     if (next == in.n) next = 0;
-    const double da = dist[i], db = dist[next];
+    const double da = d[i], db = d[next];
     if (da <= 0.0) out.add(in.v[i].p, in.v[i].id);
     if ((da < 0.0 && db > 0.0) || (da > 0.0 && db < 0.0))
       out.add(in.v[i].p + (in.v[next].p - in.v[i].p) * (da / (da - db)),
@@ -203,7 +213,9 @@ int clipFeatures(const Feature& ref, const Feature& inc, bool refIsA, double rRe
   for (int j = 0; j < ref.count && in->n > 0; ++j) {
     const Vec3& r0 = ref.p[j];
     const Vec3& r1 = ref.p[(j + 1) % ref.count];
-    clipAgainst(*in, r0, (r1 - r0).cross(ref.normal), j, *out);
+    const Vec3 sideN = (r1 - r0).cross(ref.normal);
+    clipAgainst(
+        *in, [&](const Vec3& p) { return (p - r0).dot(sideN); }, j, *out);
     std::swap(in, out);
   }
   // Depth of each clipped point below the reference face, then keep those within the margin.
@@ -239,7 +251,6 @@ int clipFeatures(const Feature& ref, const Feature& inc, bool refIsA, double rRe
 int clipBoxFaces(const Vec3& hRef, const Mat3& refToWorld, const Vec3& refCentre, int axis,
                  bool positive, const Vec3& hInc, const Mat3& incAxes, const Vec3& incCentre,
                  bool refIsA, double margin, Manifold& m) {
-  static constexpr int su[4] = {-1, 1, 1, -1}, sw[4] = {-1, -1, 1, 1};  // as boxFace
   const double sign = positive ? 1.0 : -1.0;
   // The incident face: the one facing most against the reference normal.
   int ia = 0;
@@ -250,80 +261,40 @@ int clipBoxFaces(const Vec3& hRef, const Mat3& refToWorld, const Vec3& refCentre
   const bool incPositive = dl[ia] >= 0.0;
   const int iu = (ia + 1) % 3, iw = (ia + 2) % 3;
   const Vec3 c = incCentre + incAxes.col(ia) * ((incPositive ? 1.0 : -1.0) * hInc[ia]);
-  const Vec3 eu = incAxes.col(iu) * hInc[iu], ew = incAxes.col(iw) * hInc[iw];
-  constexpr int kMaxBoxClip = 12;  // 4 corners, at most one more per side
-  struct Vertex {
-    Vec3 p;
-    uint32_t id;
-  };
-  Vertex bufA[kMaxBoxClip], bufB[kMaxBoxClip];
-  Vertex *in = bufA, *out = bufB;
-  int n = 0;
-  for (int corner = 0; corner < 4; ++corner) {
-    const int k = incPositive ? corner : 3 - corner;
-    uint32_t bits = incPositive ? (1u << ia) : 0u;
-    if (su[k] > 0) bits |= 1u << iu;
-    if (sw[k] > 0) bits |= 1u << iw;
-    in[n++] = {c + eu * su[k] + ew * sw[k], bits << 8};
-  }
-  // The reference face's sides in boxFace's corner order: side j joins corners j and j + 1 and
-  // keeps s q[coord] <= h[coord].
+  ClipList bufA, bufB;
+  ClipList *in = &bufA, *out = &bufB;
+  faceCorners(ia, incPositive, c, incAxes.col(iu) * hInc[iu], incAxes.col(iw) * hInc[iw],
+              [&](const Vec3& p, uint32_t id) { in->add(p, id << 8); });
+  // The reference face's sides in faceCorners' order: side j joins corners j and j + 1, along
+  // which one coordinate stays at +-h; it keeps s q[coord] <= h[coord].
   const int u = (axis + 1) % 3, w = (axis + 2) % 3;
-  for (int j = 0; j < 4 && n > 0; ++j) {
+  for (int j = 0; j < 4 && in->n > 0; ++j) {
     const int k0 = positive ? j : 3 - j, k1 = positive ? (j + 1) % 4 : 3 - (j + 1) % 4;
     const int coord = su[k0] == su[k1] ? u : w;
     const double s = coord == u ? su[k0] : sw[k0], limit = hRef[coord];
-    auto dist = [&](const Vec3& q) { return s * q[coord] - limit; };
-    int outN = 0;
-    auto add = [&](const Vec3& q, uint32_t id) {
-      if (outN < kMaxBoxClip) out[outN++] = {q, id};
-    };
-    const uint32_t sideId = static_cast<uint32_t>(j + 1);
-    if (n == 1) {
-      if (dist(in[0].p) <= 0.0) add(in[0].p, in[0].id);
-    } else if (n == 2) {  // a segment, clipped as a segment (as clipAgainst)
-      const double d0 = dist(in[0].p), d1 = dist(in[1].p);
-      if (!(d0 > 0.0 && d1 > 0.0)) {
-        const Vec3 x = (d0 > 0.0 || d1 > 0.0)
-                           ? Vec3(in[0].p + (in[1].p - in[0].p) * (d0 / (d0 - d1)))
-                           : in[0].p;
-        const uint32_t crossing = (in[0].id & ~0xFFu) | sideId;
-        add(d0 <= 0.0 ? in[0].p : x, d0 <= 0.0 ? in[0].id : crossing);
-        add(d1 <= 0.0 ? in[1].p : x, d1 <= 0.0 ? in[1].id : crossing);
-      }
-    } else {
-      double d[kMaxBoxClip];
-      for (int i = 0; i < n; ++i) d[i] = dist(in[i].p);
-      for (int i = 0, next = 1; i < n; ++i, ++next) {
-        if (next == n) next = 0;
-        const double da = d[i], db = d[next];
-        if (da <= 0.0) add(in[i].p, in[i].id);
-        if ((da < 0.0 && db > 0.0) || (da > 0.0 && db < 0.0))
-          add(in[i].p + (in[next].p - in[i].p) * (da / (da - db)), (in[i].id & ~0xFFu) | sideId);
-      }
-    }
+    clipAgainst(
+        *in, [&](const Vec3& q) { return s * q[coord] - limit; }, j, *out);
     std::swap(in, out);
-    n = outN;
   }
   // Depth below the reference face; the point halfway between the two surfaces, in the world.
-  Vec3 pts[kMaxBoxClip];
-  double seps[kMaxBoxClip];
-  uint32_t ids[kMaxBoxClip];
+  std::array<Vec3, kMaxClip> pts;
+  std::array<double, kMaxClip> seps;
+  std::array<uint32_t, kMaxClip> ids;
   int count = 0;
   const uint32_t flip = refIsA ? 0u : 0x80000000u;
   const uint32_t face = static_cast<uint32_t>(2 * axis + (positive ? 0 : 1));
-  for (int i = 0; i < n; ++i) {
-    const double sep = sign * in[i].p[axis] - hRef[axis];
+  for (int i = 0; i < in->n; ++i) {
+    const double sep = sign * in->v[i].p[axis] - hRef[axis];
     if (sep >= margin) continue;
-    Vec3 q = in[i].p;
+    Vec3 q = in->v[i].p;
     q[axis] -= sign * 0.5 * sep;
     pts[count] = refCentre + refToWorld * q;
     seps[count] = sep;
-    ids[count] = flip | (face << 20) | (in[i].id & 0xFFFFFu);
+    ids[count] = flip | (face << 20) | (in->v[i].id & 0xFFFFFu);
     ++count;
   }
   std::array<int, 4> keep;
-  const int k = reducePoints(pts, seps, count, refToWorld.col(axis) * sign, keep);
+  const int k = reducePoints(pts.data(), seps.data(), count, refToWorld.col(axis) * sign, keep);
   for (int i = 0; i < k; ++i) m.points[i] = {pts[keep[i]], seps[keep[i]], ids[keep[i]]};
   m.pointCount = k;
   return k;
