@@ -6,20 +6,21 @@
 namespace grip::detail {
 namespace {
 
+// The signs of a face's four corners along its two edge axes u and w, in loop order.
+constexpr int kCornerU[4] = {-1, 1, 1, -1}, kCornerW[4] = {-1, -1, 1, 1};
+
 // A box face's corners from its centre c and half-edge vectors eu, ew (along the axes after
 // `axis`), CCW seen from outside, each with its vertex id: bit k set where the corner lies on
 // the + side of box axis k. CCW about +axis because e_u x e_w = e_axis.
-constexpr int su[4] = {-1, 1, 1, -1}, sw[4] = {-1, -1, 1, 1};  // corners' (u, w) signs
-
 template <class Add>
 void faceCorners(int axis, bool positive, const Vec3& c, const Vec3& eu, const Vec3& ew, Add add) {
   const int u = (axis + 1) % 3, w = (axis + 2) % 3;
   for (int corner = 0; corner < 4; ++corner) {
     const int k = positive ? corner : 3 - corner;
     uint32_t bits = positive ? (1u << axis) : 0u;
-    if (su[k] > 0) bits |= 1u << u;
-    if (sw[k] > 0) bits |= 1u << w;
-    add(c + eu * su[k] + ew * sw[k], bits);
+    if (kCornerU[k] > 0) bits |= 1u << u;
+    if (kCornerW[k] > 0) bits |= 1u << w;
+    add(c + eu * kCornerU[k] + ew * kCornerW[k], bits);
   }
 }
 
@@ -270,8 +271,8 @@ int clipBoxFaces(const Vec3& hRef, const Mat3& refToWorld, const Vec3& refCentre
   const int u = (axis + 1) % 3, w = (axis + 2) % 3;
   for (int j = 0; j < 4 && in->n > 0; ++j) {
     const int k0 = positive ? j : 3 - j, k1 = positive ? (j + 1) % 4 : 3 - (j + 1) % 4;
-    const int coord = su[k0] == su[k1] ? u : w;
-    const double s = coord == u ? su[k0] : sw[k0], limit = hRef[coord];
+    const int coord = kCornerU[k0] == kCornerU[k1] ? u : w;
+    const double s = coord == u ? kCornerU[k0] : kCornerW[k0], limit = hRef[coord];
     clipAgainst(
         *in, [&](const Vec3& q) { return s * q[coord] - limit; }, j, *out);
     std::swap(in, out);
