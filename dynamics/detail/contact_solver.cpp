@@ -18,7 +18,6 @@ using detail::Body;
 using detail::ContactManifold;
 using detail::SolverBody;
 using detail::SolverManifold;
-using detail::SolverPoint;
 using detail::SolverRow;
 
 namespace {
@@ -99,7 +98,7 @@ SolverRow makeRow(const SolverBody& a, const SolverBody& b, const Vec3& lin, con
 void solveFriction(SolverManifold& m, SolverBody& A, SolverBody& B, const SolveContext& ctx,
                    bool useBias, Moves moves, bool mayBreak) {
   double normal = 0.0;
-  for (int k = 0; k < m.count; ++k) normal += m.p[k].normal.impulse;
+  for (int k = 0; k < m.count; ++k) normal += m.impulse[k];
   const double mu = m.sliding ? m.dynamicFriction : m.staticFriction;
   SolverRow &t1 = m.friction[0], &t2 = m.friction[1], &twist = m.friction[2];
   // No push, no friction: a patch that does not press and holds no friction impulse has
@@ -148,24 +147,74 @@ void solveFriction(SolverManifold& m, SolverBody& A, SolverBody& B, const SolveC
   }
 }
 
-// The coupling of a patch's three basis rows (centre normal, rotation about t1, about t2)
-// through the bodies that move, inverted; false if it is not positive definite.
-bool invertBlock(const SolverManifold& m, const SolverBody& a, const SolverBody& b, Moves moves,
-                 double (&out)[3][3]) {
-  const Vec3* t[2] = {&m.friction[0].lin, &m.friction[1].lin};
-  Mat3 k = Mat3::Zero();
-  const bool useA = moves != Moves::OnlyB, useB = moves != Moves::OnlyA;
-  if (useA) k(0, 0) += a.invMass + m.centre.angA.dot(m.centre.dwA);
-  if (useB) k(0, 0) += b.invMass + m.centre.angB.dot(m.centre.dwB);
-  for (int i = 0; i < 2; ++i) {
-    if (useA) k(0, i + 1) += m.centre.angA.dot(m.spinA[i]);
-    if (useB) k(0, i + 1) += m.centre.angB.dot(m.spinB[i]);
-    k(i + 1, 0) = k(0, i + 1);
-    for (int j = 0; j < 2; ++j) {
-      if (useA) k(i + 1, j + 1) += t[i]->dot(m.spinA[j]);
-      if (useB) k(i + 1, j + 1) += t[i]->dot(m.spinB[j]);
-    }
+// The coupling Jb M^-1 Jb^T of a manifold's three basis rows (centre normal, rotation about
+// t1, about t2) through the bodies that move.
+void basisCoupling(const SolverManifold& m, const SolverBody& a, const SolverBody& b, Moves moves,
+                   double (&k)[3][3]) {
+  const Vec3 &t1 = m.friction[0].lin, &t2 = m.friction[1].lin;
+  double k00 = 0.0, k01 = 0.0, k02 = 0.0, k11 = 0.0, k12 = 0.0, k22 = 0.0;
+  if (moves != Moves::OnlyB) {
+    k00 += a.invMass + m.armA.dot(m.dwA);
+    k01 += m.armA.dot(m.spinA[0]), k02 += m.armA.dot(m.spinA[1]);
+    k11 += t1.dot(m.spinA[0]), k12 += t1.dot(m.spinA[1]), k22 += t2.dot(m.spinA[1]);
   }
+  if (moves != Moves::OnlyA) {
+    k00 += b.invMass + m.armB.dot(m.dwB);
+    k01 += m.armB.dot(m.spinB[0]), k02 += m.armB.dot(m.spinB[1]);
+    k11 += t1.dot(m.spinB[0]), k12 += t1.dot(m.spinB[1]), k22 += t2.dot(m.spinB[1]);
+  }
+  k[0][0] = k00, k[0][1] = k[1][0] = k01, k[0][2] = k[2][0] = k02;
+  k[1][1] = k11, k[1][2] = k[2][1] = k12, k[2][2] = k22;
+}
+
+// The points' normal coupling K_ij = J_i M^-1 J_j^T = c_i . Kb c_j, with c_k = (1, alpha_k,
+// beta_k).
+void pointCoupling(const SolverManifold& m, const double (&kb)[3][3], double (&K)[4][4]) {
+  double kc[4][3];
+  for (int j = 0; j < m.count; ++j)
+    for (int i = 0; i < 3; ++i) kc[j][i] = kb[i][0] + kb[i][1] * m.alpha[j] + kb[i][2] * m.beta[j];
+  for (int i = 0; i < m.count; ++i)
+    for (int j = 0; j < m.count; ++j)
+      K[i][j] = kc[j][0] + m.alpha[i] * kc[j][1] + m.beta[i] * kc[j][2];
+}
+
+// The three basis rows' velocities: centre normal, relative spin about t1 and about t2.
+inline void basisVelocity(const SolverManifold& m, const SolverBody& A, const SolverBody& B,
+                          double linearVelocity, double (&g)[3]) {
+  const Vec3 spin = B.w - A.w;
+  g[0] = linearVelocity + m.armB.dot(B.w) - m.armA.dot(A.w);
+  g[1] = m.friction[0].lin.dot(spin), g[2] = m.friction[1].lin.dot(spin);
+}
+
+// Point impulses given by their sums (sum l, sum alpha l, sum beta l) applied to the bodies.
+inline void applyBasis(const SolverManifold& m, SolverBody& A, SolverBody& B, const double (&L)[3],
+                       Moves moves) {
+  if (moves != Moves::OnlyB) {
+    A.v -= (A.invMass * L[0]) * m.normal;
+    A.w -= L[0] * m.dwA + L[1] * m.spinA[0] + L[2] * m.spinA[1];
+  }
+  if (moves != Moves::OnlyA) {
+    B.v += (B.invMass * L[0]) * m.normal;
+    B.w += L[0] * m.dwB + L[1] * m.spinB[0] + L[2] * m.spinB[1];
+  }
+}
+
+// The normal row of point k written out, for the paths that work row by row.
+SolverRow pointRow(const SolverManifold& m, int k) {
+  const Vec3 arm = m.alpha[k] * m.friction[0].lin + m.beta[k] * m.friction[1].lin;
+  SolverRow r;
+  r.lin = m.normal;
+  r.angA = m.armA + arm, r.angB = m.armB + arm;
+  r.dwA = m.dwA + m.alpha[k] * m.spinA[0] + m.beta[k] * m.spinA[1];
+  r.dwB = m.dwB + m.alpha[k] * m.spinB[0] + m.beta[k] * m.spinB[1];
+  r.mass = m.pointMass[k];
+  r.impulse = m.impulse[k];
+  return r;
+}
+
+// The basis coupling inverted; false if it is not positive definite.
+bool invertBlock(const double (&kb)[3][3], double (&out)[3][3]) {
+  const Mat3 k = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(&kb[0][0]);
   const double det = k.determinant(), trace = k.trace();
   if (!(det > 1e-12 * trace * trace * trace)) return false;
   const Mat3 inv = k.inverse();
@@ -174,37 +223,24 @@ bool invertBlock(const SolverManifold& m, const SolverBody& a, const SolverBody&
   return true;
 }
 
-// Prepares the exact patch solve of a manifold of 3 or 4 points around `centre`: each
-// point's normal velocity is g0 + alpha_k g1 + beta_k g2 in the basis rows' velocities g,
-// with alpha_k, beta_k the components of d_k x n (d_k: the point from the centre) along the
-// tangents.
-void prepareBlock(SolverManifold& m, const SolverBody& a, const SolverBody& b, const Vec3& rA,
-                  const Vec3& rB, const Vec3 (&points)[4], const Vec3& centre) {
+// Prepares the exact patch solve of a manifold of 3 or 4 points: each point's normal velocity
+// is g0 + alpha_k g1 + beta_k g2 in the basis rows' velocities g.
+void prepareBlock(SolverManifold& m) {
   m.block = false;
   if (m.count < 3) return;
-  const Vec3& n = m.normal;
-  const Vec3 &t1 = m.friction[0].lin, &t2 = m.friction[1].lin;
-  double alpha[4], beta[4];
   double saa = 0.0, sab = 0.0, sbb = 0.0;
   for (int k = 0; k < m.count; ++k) {
-    const Vec3 arm = (points[k] - centre).cross(n);
-    alpha[k] = arm.dot(t1), beta[k] = arm.dot(t2);
-    saa += alpha[k] * alpha[k], sab += alpha[k] * beta[k], sbb += beta[k] * beta[k];
+    saa += m.alpha[k] * m.alpha[k], sab += m.alpha[k] * m.beta[k], sbb += m.beta[k] * m.beta[k];
   }
   // Points near a line leave a rotation unconstrained: no exact patch solve then.
   const double det = saa * sbb - sab * sab;
   if (!(det > 1e-4 * (saa + sbb) * (saa + sbb))) return;
-  m.centre = makeRow(a, b, n, rA.cross(n), rB.cross(n));
-  for (int i = 0; i < 2; ++i) {
-    const Vec3& t = m.friction[i].lin;
-    m.spinA[i] = a.invI * t, m.spinB[i] = b.invI * t;
-  }
-  if (!invertBlock(m, a, b, Moves::Both, m.blockInv)) return;
+  if (!invertBlock(m.basisK, m.blockInv)) return;
   // fit = (C^T C)^-1 C^T for C_k = (1, alpha_k, beta_k); the centre makes sum alpha = 0.
   for (int k = 0; k < m.count; ++k) {
     m.fit[0][k] = 1.0 / m.count;
-    m.fit[1][k] = (sbb * alpha[k] - sab * beta[k]) / det;
-    m.fit[2][k] = (saa * beta[k] - sab * alpha[k]) / det;
+    m.fit[1][k] = (sbb * m.alpha[k] - sab * m.beta[k]) / det;
+    m.fit[2][k] = (saa * m.beta[k] - sab * m.alpha[k]) / det;
     m.slack[k] = 0.0;
   }
   if (m.count == 4) {  // the null vector of C^T: cofactors of C
@@ -212,7 +248,7 @@ void prepareBlock(SolverManifold& m, const SolverBody& a, const SolverBody& b, c
       Mat3 minor;
       for (int r = 0, row = 0; r < 4; ++r) {
         if (r == k) continue;
-        minor.row(row++) << 1.0, alpha[r], beta[r];
+        minor.row(row++) << 1.0, m.alpha[r], m.beta[r];
       }
       m.slack[k] = (k % 2 ? -1.0 : 1.0) * minor.determinant();
     }
@@ -225,14 +261,11 @@ void prepareBlock(SolverManifold& m, const SolverBody& a, const SolverBody& b, c
 }
 
 // The exact solve of a patch whose rows are all rigid with targets `bias`: the basis velocities
-// are driven to the least-squares fit of the targets, and the new total impulses are spread over
-// the points (the least change, shifted along the slack if a point would pull). False, with
-// nothing applied, if no spread keeps every point pushing.
-bool solveNormalBlock(SolverManifold& m, SolverBody& A, SolverBody& B, const double* bias,
-                      Moves moves) {
-  const Vec3 spin = B.w - A.w;
-  const double g[3] = {rowVelocity(A, B, m.centre), m.friction[0].lin.dot(spin),
-                       m.friction[1].lin.dot(spin)};
+// g are driven to the least-squares fit of the targets, and the new total impulses are spread
+// over the points (the least change, shifted along the slack if a point would pull). False,
+// with nothing applied, if no spread keeps every point pushing.
+bool solveNormalBlock(SolverManifold& m, SolverBody& A, SolverBody& B, const double (&g)[3],
+                      const double* bias, Moves moves) {
   double dg[3];
   for (int i = 0; i < 3; ++i) {
     double target = 0.0;
@@ -244,8 +277,7 @@ bool solveNormalBlock(SolverManifold& m, SolverBody& A, SolverBody& B, const dou
   for (int i = 0; i < 3; ++i) dT[i] = inv[i][0] * dg[0] + inv[i][1] * dg[1] + inv[i][2] * dg[2];
   double lambda[4], along = 0.0;
   for (int k = 0; k < m.count; ++k) {
-    lambda[k] =
-        m.p[k].normal.impulse + m.fit[0][k] * dT[0] + m.fit[1][k] * dT[1] + m.fit[2][k] * dT[2];
+    lambda[k] = m.impulse[k] + m.fit[0][k] * dT[0] + m.fit[1][k] * dT[1] + m.fit[2][k] * dT[2];
     along += lambda[k] * m.slack[k];
   }
   // The even spread (least norm) of the new totals, unless a point would pull.
@@ -265,18 +297,10 @@ bool solveNormalBlock(SolverManifold& m, SolverBody& A, SolverBody& B, const dou
     for (int k = 0; k < m.count; ++k) lambda[k] = std::max(lambda[k] + t * m.slack[k], 0.0);
   }
   for (int k = 0; k < m.count; ++k) {
-    SolverPoint& p = m.p[k];
-    p.maxNormalImpulse = std::max(p.maxNormalImpulse, lambda[k] - p.normal.impulse);
-    p.normal.impulse = lambda[k];
+    m.maxImpulse[k] = std::max(m.maxImpulse[k], lambda[k] - m.impulse[k]);
+    m.impulse[k] = lambda[k];
   }
-  if (moves != Moves::OnlyB) {
-    A.v -= (A.invMass * dT[0]) * m.normal;
-    A.w -= dT[0] * m.centre.dwA + dT[1] * m.spinA[0] + dT[2] * m.spinA[1];
-  }
-  if (moves != Moves::OnlyA) {
-    B.v += (B.invMass * dT[0]) * m.normal;
-    B.w += dT[0] * m.centre.dwB + dT[1] * m.spinB[0] + dT[2] * m.spinB[1];
-  }
+  applyBasis(m, A, B, dT, moves);
   return true;
 }
 
@@ -317,10 +341,10 @@ bool solveNormalActive(const SolverManifold& m, const double (*K)[4], const doub
   int active[4], na = 0;
   for (int k = 0; k < m.count; ++k) {
     delta[k] = 0.0;
-    if (m.p[k].normal.impulse > 0.0 || vn[k] + bias[k] < 0.0)
+    if (m.impulse[k] > 0.0 || vn[k] + bias[k] < 0.0)
       active[na++] = k;
     else
-      delta[k] = -m.p[k].normal.impulse;
+      delta[k] = -m.impulse[k];
   }
   if (na == 4) return false;
   double a[3][3], r[3], x[3];
@@ -332,11 +356,11 @@ bool solveNormalActive(const SolverManifold& m, const double (*K)[4], const doub
   }
   if (na > 0 && !solveSmall(a, r, na, x)) return false;
   for (int i = 0; i < na; ++i) {
-    if (m.p[active[i]].normal.impulse + x[i] < 0.0) return false;
+    if (m.impulse[active[i]] + x[i] < 0.0) return false;
     delta[active[i]] = x[i];
   }
   for (int k = 0; k < m.count; ++k) {
-    if (delta[k] != -m.p[k].normal.impulse || m.p[k].normal.impulse == 0.0) continue;
+    if (delta[k] != -m.impulse[k] || m.impulse[k] == 0.0) continue;
     double v = vn[k] + bias[k];
     for (int j = 0; j < m.count; ++j) v += K[k][j] * delta[j];
     if (v < -1e-9) return false;
@@ -346,9 +370,9 @@ bool solveNormalActive(const SolverManifold& m, const double (*K)[4], const doub
 
 // Whether a manifold is certainly idle (no point pushes, each closes slower than its gap
 // allows), from bounds on every point's separation and normal velocity: the per-point test
-// below costs ten times more, and half the manifolds of a pile are such gaps. The margin keeps
-// this an under-estimate of the exact test, so both give the same result. A bouncy manifold's
-// biased pass records the approach speed, so it takes the full path.
+// below costs more, and half the manifolds of a pile are such gaps. The margin keeps this an
+// under-estimate of the exact test, so both give the same result. A bouncy manifold's biased
+// pass records the approach speed, so it takes the full path.
 inline bool idleByBounds(const SolverManifold& m, const SolverBody& A, const SolverBody& B,
                          const SolveContext& ctx, bool useBias, double linearVelocity,
                          double linearShift) {
@@ -356,7 +380,7 @@ inline bool idleByBounds(const SolverManifold& m, const SolverBody& A, const Sol
   // A manifold without rows holds no impulse (prepareManifold); one with rows is checked.
   if (m.rowsReady)
     for (int k = 0; k < m.count; ++k)
-      if (m.p[k].normal.impulse != 0.0) return false;
+      if (m.impulse[k] != 0.0) return false;
   const double gap =
       m.minSeparation + linearShift - m.reachA * A.dtheta.norm() - m.reachB * B.dtheta.norm();
   if (!(gap > 1e-12)) return false;
@@ -365,24 +389,29 @@ inline bool idleByBounds(const SolverManifold& m, const SolverBody& A, const Sol
 }
 
 // Non-penetration. The points of one manifold push on the same two bodies, so they are
-// solved together: a few Gauss-Seidel sweeps over the manifold's own small system K, then
-// one impulse per point is applied. Solving them one at a time against the bodies leaves
-// the first point with most of the load and tips the body.
+// solved together, in the patch basis: exactly where a guess of the pushing points holds (a
+// face's points by the patch solve, fewer by a small dense solve), else by a few Gauss-Seidel
+// sweeps over the manifold's own small system K. Solving them one at a time against the
+// bodies leaves the first point with most of the load and tips the body.
 void solveNormal(SolverManifold& m, SolverBody& A, SolverBody& B, const SolveContext& ctx,
                  bool useBias, Moves moves) {
-  // Every normal row shares the linear part n: its share of velocity and displacement once.
   const Vec3& n = m.normal;
   const double linearVelocity = n.dot(B.v - A.v), linearShift = n.dot(B.dp - A.dp);
   if (idleByBounds(m, A, B, ctx, useBias, linearVelocity, linearShift)) return;
   const Softness& soft = (m.a == 0 || m.b == 0) ? ctx.staticSoft : ctx.soft;
+  // The basis velocities, and the basis displacements since the step began.
+  double g[3];
+  basisVelocity(m, A, B, linearVelocity, g);
+  const Vec3 turn = B.dtheta - A.dtheta;
+  const double shift = linearShift + m.armB.dot(B.dtheta) - m.armA.dot(A.dtheta);
+  const double turn1 = m.friction[0].lin.dot(turn), turn2 = m.friction[1].lin.dot(turn);
   double vn[4], bias[4], delta[4] = {0, 0, 0, 0};
   bool rigid = true, idle = true;
   uint8_t softRows = 0;  // bit k: row k pushes out softly
   int speculative = 0;
   for (int k = 0; k < m.count; ++k) {
-    const SolverRow& r = m.p[k].normal;
     // Current separation, linearised in the bodies' motion since the step began.
-    const double s = m.p[k].separation + linearShift + r.angB.dot(B.dtheta) - r.angA.dot(A.dtheta);
+    const double s = m.separation[k] + shift + m.alpha[k] * turn1 + m.beta[k] * turn2;
     bias[k] = 0.0;
     if (s > 0.0) {
       bias[k] = s * ctx.invH;  // speculative: may close the gap, no more
@@ -392,71 +421,59 @@ void solveNormal(SolverManifold& m, SolverBody& A, SolverBody& B, const SolveCon
       softRows |= 1u << k;
       rigid = false;
     }
-    vn[k] = linearVelocity + r.angB.dot(B.w) - r.angA.dot(A.w);
+    vn[k] = g[0] + m.alpha[k] * g[1] + m.beta[k] * g[2];
     speculative += s > 0.0;
-    idle &= m.p[k].normal.impulse == 0.0 && vn[k] + bias[k] >= 0.0;
+    idle &= m.impulse[k] == 0.0 && vn[k] + bias[k] >= 0.0;
   }
   // Restitution answers the fastest approach before an impulse: the substep of impact
   // closes faster than the step's start did (by up to g dt at 60 Hz: 4 % of a 1 m drop).
   if (useBias && m.restitution != 0.0)
-    for (int k = 0; k < m.count; ++k)
-      m.p[k].relativeVelocity = std::min(m.p[k].relativeVelocity, vn[k]);
+    for (int k = 0; k < m.count; ++k) m.approach[k] = std::min(m.approach[k], vn[k]);
   if (idle) return;  // nothing pushes and nothing closes faster than allowed
-  // Rigid rows are solved exactly where a guess of the pushing points holds: a face's four
-  // points in the patch basis, fewer by a small dense solve. Else Gauss-Seidel sweeps.
-  const bool both = moves == Moves::Both;
-  const double(*K)[4] = both ? m.K : m.shockK;
-  bool exact = false;
-  if (rigid && !m.direct) {
-    if (m.block && (speculative == 0 || speculative == m.count) &&
-        solveNormalBlock(m, A, B, bias, moves))
-      return;
-    exact = solveNormalActive(m, K, vn, bias, delta);
-  }
+  if (rigid && !m.direct && m.block && (speculative == 0 || speculative == m.count) &&
+      solveNormalBlock(m, A, B, g, bias, moves))
+    return;
+  // Fewer points, or a guess that failed: the points' own coupling, exactly or by sweeps.
+  const double(*K)[4] = moves == Moves::Both ? m.K : m.shockK;
+  const bool exact = rigid && !m.direct && solveNormalActive(m, K, vn, bias, delta);
   if (!exact) {
     double massScale[4], impulseScale[4], mass[4];
     for (int k = 0; k < m.count; ++k) {
       const bool softRow = softRows & (1u << k);
       massScale[k] = softRow ? soft.massScale : 1.0;
       impulseScale[k] = softRow ? soft.impulseScale : 0.0;
-      mass[k] = both ? m.p[k].normal.mass : m.shockNormalMass[k];
+      mass[k] = K[k][k] > 0.0 ? 1.0 / K[k][k] : 0.0;
     }
     const int sweeps = m.count > 1 ? ctx.manifoldSweeps : 1;
     for (int it = 0; it < sweeps; ++it) {
       for (int k = 0; k < m.count; ++k) {
         double v = vn[k];
         for (int j = 0; j < m.count; ++j) v += K[k][j] * delta[j];
-        const double total = m.p[k].normal.impulse + delta[k];
+        const double total = m.impulse[k] + delta[k];
         const double impulse = -mass[k] * massScale[k] * (v + bias[k]) - impulseScale[k] * total;
-        delta[k] = std::max(total + impulse, 0.0) - m.p[k].normal.impulse;
+        delta[k] = std::max(total + impulse, 0.0) - m.impulse[k];
       }
     }
   }
-  // Apply the four impulses as one: their sum along n and their angular effects.
-  double sum = 0.0;
-  Vec3 dwA = Vec3::Zero(), dwB = Vec3::Zero();
+  // Apply the point impulses as one: their three basis sums.
+  double L[3] = {0.0, 0.0, 0.0};
   for (int k = 0; k < m.count; ++k) {
-    SolverPoint& p = m.p[k];
-    p.normal.impulse += delta[k];
-    p.maxNormalImpulse = std::max(p.maxNormalImpulse, delta[k]);
-    sum += delta[k];
-    dwA += delta[k] * p.normal.dwA, dwB += delta[k] * p.normal.dwB;
+    m.impulse[k] += delta[k];
+    m.maxImpulse[k] = std::max(m.maxImpulse[k], delta[k]);
+    L[0] += delta[k], L[1] += m.alpha[k] * delta[k], L[2] += m.beta[k] * delta[k];
   }
-  if (moves != Moves::OnlyB) A.v -= (A.invMass * sum) * n, A.w -= dwA;
-  if (moves != Moves::OnlyA) B.v += (B.invMass * sum) * n, B.w += dwB;
+  applyBasis(m, A, B, L, moves);
 }
 
 // Last step's impulses applied again, all rows of the manifold at once: one linear impulse
 // (normal and tangents) and one angular change per body.
 void warmStart(const SolverManifold& m, SolverBody& A, SolverBody& B) {
-  double normal = 0.0;
-  Vec3 dwA = Vec3::Zero(), dwB = Vec3::Zero();
-  for (int k = 0; k < m.count; ++k) {
-    const SolverRow& r = m.p[k].normal;
-    normal += r.impulse;
-    dwA += r.impulse * r.dwA, dwB += r.impulse * r.dwB;
-  }
-  Vec3 linear = normal * m.normal;
+  double L[3] = {0.0, 0.0, 0.0};
+  for (int k = 0; k < m.count; ++k)
+    L[0] += m.impulse[k], L[1] += m.alpha[k] * m.impulse[k], L[2] += m.beta[k] * m.impulse[k];
+  Vec3 linear = L[0] * m.normal;
+  Vec3 dwA = L[0] * m.dwA + L[1] * m.spinA[0] + L[2] * m.spinA[1];
+  Vec3 dwB = L[0] * m.dwB + L[1] * m.spinB[0] + L[2] * m.spinB[1];
   for (const SolverRow& r : m.friction) {
     linear += r.impulse * r.lin;
     dwA += r.impulse * r.dwA, dwB += r.impulse * r.dwB;
@@ -506,21 +523,23 @@ void solveIslandNormals(std::vector<SolverManifold>& manifolds, std::vector<Solv
   using VecN = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kDirectRows, 1>;
   struct Row {
     SolverManifold* m;
-    SolverPoint* p;
+    int point;
+    SolverRow row;  // written out
   };
   std::array<Row, kDirectRows> rows;
   int n = 0;
   for (const int* i = list; *i >= 0; ++i)
-    for (int k = 0; k < manifolds[*i].count; ++k) rows[n++] = {&manifolds[*i], &manifolds[*i].p[k]};
+    for (int k = 0; k < manifolds[*i].count; ++k)
+      rows[n++] = {&manifolds[*i], k, pointRow(manifolds[*i], k)};
   MatN K(n, n);
   VecN rhs(n), lambda(n), bias(n);
   for (int i = 0; i < n; ++i) {
     const SolverManifold& m = *rows[i].m;
-    const SolverRow& r = rows[i].p->normal;
+    const SolverRow& r = rows[i].row;
     const SolverBody &A = bodies[m.a], &B = bodies[m.b];
-    for (int j = 0; j < n; ++j) K(i, j) = coupling(m, r, *rows[j].m, rows[j].p->normal, bodies);
+    for (int j = 0; j < n; ++j) K(i, j) = coupling(m, r, *rows[j].m, rows[j].row, bodies);
     const Softness& soft = (m.a == 0 || m.b == 0) ? ctx.staticSoft : ctx.soft;
-    const double sep = rows[i].p->separation + r.lin.dot(B.dp - A.dp) + r.angB.dot(B.dtheta) -
+    const double sep = m.separation[rows[i].point] + r.lin.dot(B.dp - A.dp) + r.angB.dot(B.dtheta) -
                        r.angA.dot(A.dtheta);
     double b = 0.0, massScale = 1.0, impulseScale = 0.0;
     if (sep > 0.0) {
@@ -575,10 +594,11 @@ void solveIslandNormals(std::vector<SolverManifold>& manifolds, std::vector<Solv
     }
     if (changed) continue;
     for (int i = 0; i < n; ++i) {
-      SolverPoint& p = *rows[i].p;
-      p.normal.impulse = lambda[i] + delta[i];
-      p.maxNormalImpulse = std::max(p.maxNormalImpulse, delta[i]);
-      applyRow(bodies[rows[i].m->a], bodies[rows[i].m->b], p.normal, delta[i]);
+      SolverManifold& m = *rows[i].m;
+      const int k = rows[i].point;
+      m.impulse[k] = lambda[i] + delta[i];
+      m.maxImpulse[k] = std::max(m.maxImpulse[k], delta[i]);
+      applyRow(bodies[m.a], bodies[m.b], rows[i].row, delta[i]);
     }
     return;
   }
@@ -728,11 +748,10 @@ void World::Impl::prepareManifold(SolverManifold& m) {
   m.patchCentre = Vec3::Zero();
   for (int k = 0; k < m.count; ++k) {
     const ContactPoint& cp = c.m.points[k];
-    SolverPoint& p = m.p[k];
-    p.normal.impulse = c.state[k].normalImpulse;
-    p.maxNormalImpulse = 0.0;
-    m.warm |= p.normal.impulse != 0.0;
-    p.separation = cp.separation;
+    m.impulse[k] = c.state[k].normalImpulse;
+    m.maxImpulse[k] = 0.0;
+    m.warm |= m.impulse[k] != 0.0;
+    m.separation[k] = cp.separation;
     m.minSeparation = std::min(m.minSeparation, cp.separation);
     reachA2 = std::max(reachA2, (cp.position - A.com).cross(n).squaredNorm());
     reachB2 = std::max(reachB2, (cp.position - B.com).cross(n).squaredNorm());
@@ -771,42 +790,48 @@ void World::Impl::prepareManifold(SolverManifold& m) {
   if (m.warm || heldFriction || !(m.minSeparation > 0.0) || m.restitution != 0.0) prepareRows(m);
 }
 
-// The solver rows of a manifold: one normal row per point, the patch friction rows, the
-// points' coupling K and the exact patch solve. The same whenever it runs in the step: it reads
-// only the bodies as they were at the step's start.
+// The solver rows of a manifold: the normal basis and its coupling, the points' place in it,
+// the patch friction rows and the exact patch solve. The same whenever it runs in the step: it
+// reads only the bodies as they were at the step's start.
 void World::Impl::prepareRows(SolverManifold& m) {
   const ContactManifold& c = contacts[m.source];
   const Body &A = bodies[c.bodyA], &B = bodies[c.bodyB];
   const SolverBody &sa = solverBodies[m.a], &sb = solverBodies[m.b];
   const Vec3& n = m.normal;
   const Vec3& centre = m.patchCentre;
-  for (int k = 0; k < m.count; ++k) {
-    const ContactPoint& cp = c.m.points[k];
-    SolverPoint& p = m.p[k];
-    const Vec3 rA = cp.position - A.com, rB = cp.position - B.com;
-    const double impulse = p.normal.impulse;
-    p.normal = makeRow(sa, sb, n, rA.cross(n), rB.cross(n));
-    p.normal.impulse = impulse;
-    if (m.restitution != 0.0)  // read only by bouncy manifolds
-      p.relativeVelocity = ((B.v + B.w.cross(rB)) - (A.v + A.w.cross(rA))).dot(n);
-  }
-  m.twistRadius = 0.0;
-  for (int k = 0; k < m.count; ++k) m.twistRadius += (c.m.points[k].position - centre).norm();
-  m.twistRadius /= m.count;
   const Vec3 t1 = m.friction[0].lin, t2 = m.friction[1].lin;  // set by prepareManifold
   const Vec3 rA = centre - A.com, rB = centre - B.com;
+  m.armA = rA.cross(n), m.armB = rB.cross(n);
+  m.dwA = sa.invI * m.armA, m.dwB = sb.invI * m.armB;
+  m.spinA[0] = sa.invI * t1, m.spinA[1] = sa.invI * t2;
+  m.spinB[0] = sb.invI * t1, m.spinB[1] = sb.invI * t2;
+  basisCoupling(m, sa, sb, Moves::Both, m.basisK);
+  m.twistRadius = 0.0;
+  for (int k = 0; k < m.count; ++k) {
+    const Vec3 d = c.m.points[k].position - centre;
+    const Vec3 arm = d.cross(n);
+    m.alpha[k] = arm.dot(t1), m.beta[k] = arm.dot(t2);
+    m.twistRadius += d.norm();
+    const double* kb = &m.basisK[0][0];
+    const double a = m.alpha[k], b = m.beta[k];
+    const double kk =
+        kb[0] + 2.0 * (a * kb[1] + b * kb[2]) + a * a * kb[4] + 2.0 * a * b * kb[5] + b * b * kb[8];
+    m.pointMass[k] = kk > 0.0 ? 1.0 / kk : 0.0;
+  }
+  m.twistRadius /= m.count;
+  pointCoupling(m, m.basisK, m.K);
+  if (m.restitution != 0.0) {  // read only by bouncy manifolds: each point's approach speed
+    const Vec3 spin = B.w - A.w;
+    const double g0 = n.dot(B.v - A.v) + m.armB.dot(B.w) - m.armA.dot(A.w);
+    const double g1 = t1.dot(spin), g2 = t2.dot(spin);
+    for (int k = 0; k < m.count; ++k) m.approach[k] = g0 + m.alpha[k] * g1 + m.beta[k] * g2;
+  }
   const double impulses[3] = {m.friction[0].impulse, m.friction[1].impulse, m.friction[2].impulse};
   m.friction[0] = makeRow(sa, sb, t1, rA.cross(t1), rB.cross(t1));
   m.friction[1] = makeRow(sa, sb, t2, rA.cross(t2), rB.cross(t2));
   m.friction[2] = makeRow(sa, sb, Vec3::Zero(), n, n);
   for (int r = 0; r < 3; ++r) m.friction[r].impulse = impulses[r];
-  Vec3 patch[4];
-  for (int k = 0; k < m.count; ++k) patch[k] = c.m.points[k].position;
-  prepareBlock(m, sa, sb, rA, rB, patch, centre);
-  for (int i = 0; i < m.count; ++i)
-    for (int j = 0; j < m.count; ++j)
-      m.K[i][j] = sa.invMass + sb.invMass + m.p[j].normal.angA.dot(m.p[i].normal.dwA) +
-                  m.p[j].normal.angB.dot(m.p[i].normal.dwB);
+  prepareBlock(m);
   m.rowsReady = true;
 }
 
@@ -894,13 +919,13 @@ void World::Impl::applyRestitution() {
     if (m.restitution == 0.0) continue;
     SolverBody &A = solverBodies[m.a], &B = solverBodies[m.b];
     for (int k = 0; k < m.count; ++k) {
-      SolverPoint& p = m.p[k];
-      if (p.relativeVelocity > -def.restitutionThreshold || p.maxNormalImpulse == 0.0) continue;
-      const double vn = rowVelocity(A, B, p.normal);
-      const double total = std::max(
-          p.normal.impulse - p.normal.mass * (vn + m.restitution * p.relativeVelocity), 0.0);
-      applyRow(A, B, p.normal, total - p.normal.impulse);
-      p.normal.impulse = total;
+      if (m.approach[k] > -def.restitutionThreshold || m.maxImpulse[k] == 0.0) continue;
+      const SolverRow r = pointRow(m, k);
+      const double vn = rowVelocity(A, B, r);
+      const double total =
+          std::max(m.impulse[k] - r.mass * (vn + m.restitution * m.approach[k]), 0.0);
+      applyRow(A, B, r, total - m.impulse[k]);
+      m.impulse[k] = total;
     }
   }
 }
@@ -920,18 +945,28 @@ void World::Impl::projectPositions() {
         if (gap > 1e-12 - def.positionSlop) continue;
         prepareRows(m);
       }
+      // The basis rows' displacements since the step began; a push at point k moves them by
+      // Kb c_k push, and the pushes reach the bodies as their three basis sums.
+      const Vec3 turn = B.dtheta - A.dtheta;
+      double x[3] = {m.normal.dot(B.dp - A.dp) + m.armB.dot(B.dtheta) - m.armA.dot(A.dtheta),
+                     m.friction[0].lin.dot(turn), m.friction[1].lin.dot(turn)};
+      double P[3] = {0.0, 0.0, 0.0};
       for (int k = 0; k < m.count; ++k) {
-        const SolverRow& r = m.p[k].normal;
-        const double s = m.p[k].separation + r.lin.dot(B.dp - A.dp) + r.angB.dot(B.dtheta) -
-                         r.angA.dot(A.dtheta);
+        const double c[3] = {1.0, m.alpha[k], m.beta[k]};
+        const double s = m.separation[k] + x[0] + c[1] * x[1] + c[2] * x[2];
         if (s >= -def.positionSlop) continue;
         const double push =
-            -r.mass * std::max(def.positionCorrection * (s + def.positionSlop), -0.05);
-        A.dp -= (A.invMass * push) * r.lin;
-        B.dp += (B.invMass * push) * r.lin;
-        A.dtheta -= push * r.dwA, A.correction -= push * r.dwA;
-        B.dtheta += push * r.dwB, B.correction += push * r.dwB;
+            -m.pointMass[k] * std::max(def.positionCorrection * (s + def.positionSlop), -0.05);
+        for (int r = 0; r < 3; ++r) {
+          P[r] += c[r] * push;
+          x[r] += (m.basisK[r][0] + m.basisK[r][1] * c[1] + m.basisK[r][2] * c[2]) * push;
+        }
       }
+      if (P[0] == 0.0) continue;
+      const Vec3 rotA = P[0] * m.dwA + P[1] * m.spinA[0] + P[2] * m.spinA[1];
+      const Vec3 rotB = P[0] * m.dwB + P[1] * m.spinB[0] + P[2] * m.spinB[1];
+      A.dp -= (A.invMass * P[0]) * m.normal, A.dtheta -= rotA, A.correction -= rotA;
+      B.dp += (B.invMass * P[0]) * m.normal, B.dtheta += rotB, B.correction += rotB;
     }
   }
   for (SolverBody& b : solverBodies) {
@@ -944,7 +979,7 @@ void World::Impl::projectPositions() {
 void World::Impl::storeImpulses() {
   for (const SolverManifold& m : solverManifolds) {
     ContactManifold& c = contacts[m.source];
-    for (int k = 0; k < m.count; ++k) c.state[k].normalImpulse = m.p[k].normal.impulse;
+    for (int k = 0; k < m.count; ++k) c.state[k].normalImpulse = m.impulse[k];
     for (int r = 0; r < 3; ++r) c.friction[r] = m.friction[r].impulse;
     c.sliding = m.sliding;
     if (m.sliding) c.anchored = false;
@@ -1036,7 +1071,7 @@ void World::Impl::computeLevels() {
     // and tipping out of balance (a cube set on a slope jumped 0.5 mm and slid 2 % too far).
     // A few more passes in its first substep converge it; later substeps start warm.
     firstSubstepPasses[i] = relaxPasses[i];
-    if (!m.warm && relaxPasses[i] > 0 && m.p[0].separation <= 0.0)
+    if (!m.warm && relaxPasses[i] > 0 && m.separation[0] <= 0.0)
       firstSubstepPasses[i] =
           std::max(relaxPasses[i], std::min(kColdPasses, def.maxRelaxIterations));
   }
@@ -1089,17 +1124,10 @@ void World::Impl::prepareShock(size_t i) {
   m.shockMoves = static_cast<uint8_t>(moves);
   if (moves == Moves::Both || !m.rowsReady) return;  // else again after prepareRows
   const SolverBody &A = solverBodies[m.a], &B = solverBodies[m.b];
-  for (int k = 0; k < m.count; ++k) {
-    const SolverRow& r = m.p[k].normal;
-    m.shockNormalMass[k] = rowMass(A, B, r, moves);
-    for (int j = 0; j < m.count; ++j) {
-      const SolverRow& q = m.p[j].normal;
-      m.shockK[k][j] =
-          moves == Moves::OnlyA ? A.invMass + q.angA.dot(r.dwA) : B.invMass + q.angB.dot(r.dwB);
-    }
-  }
+  basisCoupling(m, A, B, moves, m.shockBasisK);
+  pointCoupling(m, m.shockBasisK, m.shockK);
   for (int r = 0; r < 3; ++r) m.shockFrictionMass[r] = rowMass(A, B, m.friction[r], moves);
-  if (m.block && !invertBlock(m, A, B, moves, m.shockBlockInv)) m.block = false;
+  if (m.block && !invertBlock(m.shockBasisK, m.shockBlockInv)) m.block = false;
 }
 
 }  // namespace grip

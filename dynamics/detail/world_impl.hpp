@@ -102,16 +102,16 @@ struct SolverRow {
   double impulse = 0.0;  // accumulated
 };
 
-struct SolverPoint {
-  SolverRow normal;
-  double separation = 0.0;  // at the step's start
-  double maxNormalImpulse = 0.0;
-  double relativeVelocity = 0.0;  // fastest normal approach this step (for restitution)
-};
-
 // A manifold: non-penetration per point, Coulomb friction for the whole patch at its centre
 // (two tangent rows and a twist row about the normal), capped by mu times the patch's
 // total normal impulse.
+//
+// The normal rows live in the patch basis. Every point shares the normal n, and its lever arm
+// differs from the centre's by d_k x n, which lies in the tangent plane: d_k x n = alpha_k t1 +
+// beta_k t2. So point k's normal velocity is g0 + alpha_k g1 + beta_k g2, where g0 is the
+// centre's normal velocity and g1, g2 the relative spin about t1 and t2, and any set of point
+// impulses acts on the bodies only through its three sums (sum l_k, sum alpha_k l_k, sum
+// beta_k l_k). A manifold stores the three basis rows once instead of a row per point.
 struct SolverManifold {
   int a = 0, b = 0;             // solver body indices
   int source = 0;               // index into the contact manifold list
@@ -125,29 +125,39 @@ struct SolverManifold {
   // the step's start and the largest |r x n| of a point on each body. Next to the fields above,
   // so that skipping reads one cache line.
   double minSeparation = 0.0, reachA = 0.0, reachB = 0.0;
-  bool rowsReady = false;  // the rows, K and the patch solve are prepared (prepareRows)
-  SolverPoint p[4];
+  bool rowsReady = false;  // the basis, friction rows and patch solve are prepared (prepareRows)
+  bool anchored = true;    // whether the drift is pulled back (static friction)
+  bool block = false;      // the exact patch solve applies (3 or 4 points not near a line)
+  bool direct = false;     // its island's normals are solved directly (computeLevels)
+  // Shock propagation moves only the body farther from the ground (which one is fixed for
+  // the step): 0 both, 1 only a, 2 only b.
+  uint8_t shockMoves = 0;
+
+  // Per point.
+  double separation[4] = {};           // at the step's start
+  double alpha[4] = {}, beta[4] = {};  // d_k x n = alpha_k t1 + beta_k t2
+  double impulse[4] = {};              // accumulated normal impulse
+  double maxImpulse[4] = {};           // largest increase this step (restitution)
+  double approach[4] = {};             // fastest normal approach this step (restitution)
+  double pointMass[4] = {};            // effective mass of the point's normal row
+
+  // The basis rows: the normal at the patch centre (velocity n.(vB - vA) + armB.wB - armA.wA)
+  // and the relative rotations about t1 and t2 (t.(wB - wA)).
+  Vec3 armA = Vec3::Zero(), armB = Vec3::Zero();     // (centre - com) x n
+  Vec3 dwA = Vec3::Zero(), dwB = Vec3::Zero();       // I^-1 arm
+  Vec3 spinA[2], spinB[2];                           // I^-1 t1, I^-1 t2 of each body
+  double basisK[3][3] = {}, shockBasisK[3][3] = {};  // the basis rows' coupling Jb M^-1 Jb^T
+  double K[4][4] = {}, shockK[4][4] = {};            // the points' coupling K_ij = c_i . Kb c_j
+
   Vec3 patchCentre = Vec3::Zero();
   SolverRow friction[3];               // tangent 1, tangent 2, twist
   double anchorError[2] = {0.0, 0.0};  // tangential drift from the anchor at the step's start
-  bool anchored = true;                // whether the drift is pulled back (static friction)
-  double K[4][4] = {};                 // normal coupling between the points: K_ij = J_i M^-1 J_j^T
-  // Shock propagation moves only the body farther from the ground (which one is fixed for
-  // the step): its coupling and row masses, computed once per step.
-  uint8_t shockMoves = 0;  // 0 both, 1 only a, 2 only b
-  double shockK[4][4] = {};
-  double shockNormalMass[4] = {}, shockFrictionMass[3] = {};
-  // A patch of 3 or 4 points moves the bodies in three ways only: along n at the centre and
-  // by relative rotation about t1 and t2. Its rigid rows are solved exactly in that basis
-  // (solveNormalBlock); `block` is false where the points are too close to a line.
-  bool block = false;
-  bool direct = false;         // its island's normals are solved directly (computeLevels)
-  SolverRow centre;            // the normal row at the patch centre
-  Vec3 spinA[2], spinB[2];     // I^-1 t1, I^-1 t2 of each body (the rotation rows' dw)
-  double fit[3][4] = {};       // basis velocities from point velocities (least squares)
-  double slack[4] = {};        // point impulses that add up to no force or moment (4 points)
-  double blockInv[3][3] = {};  // inverse of the basis rows' coupling
-  double shockBlockInv[3][3] = {};
+  double shockFrictionMass[3] = {};
+  // The exact patch solve (solveNormalBlock): basis velocities from point velocities by least
+  // squares, point impulses that add up to nothing (4 points), the basis coupling inverted.
+  double fit[3][4] = {};
+  double slack[4] = {};
+  double blockInv[3][3] = {}, shockBlockInv[3][3] = {};
 };
 
 struct SensorPair;
