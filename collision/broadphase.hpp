@@ -34,6 +34,7 @@ class SweepBroadphase {
   std::vector<uint8_t> wide_;  // tested against every proxy, not in strips
   std::vector<uint32_t> stripLo_, stripHi_, stripStart_, fill_, wideList_;
   std::vector<Swept> swept_;  // each strip's proxies in sweep order, strip after strip
+  std::vector<std::pair<uint32_t, uint32_t>> scratch_;
 };
 
 }  // namespace grip

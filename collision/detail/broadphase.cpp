@@ -13,6 +13,21 @@ constexpr double kWideStrips = 8.0;
 
 }  // namespace
 
+namespace {
+
+// Stable counting sort of `in` into `out` by key(p) in [0, n).
+template <class Key>
+void countingSortBy(const std::vector<std::pair<uint32_t, uint32_t>>& in,
+                    std::vector<std::pair<uint32_t, uint32_t>>& out, uint32_t n, Key key,
+                    std::vector<uint32_t>& start) {
+  start.assign(n + 1, 0);
+  for (const auto& p : in) ++start[key(p) + 1];
+  for (uint32_t i = 0; i < n; ++i) start[i + 1] += start[i];
+  for (const auto& p : in) out[start[key(p)]++] = p;
+}
+
+}  // namespace
+
 void SweepBroadphase::findPairs(const std::vector<Aabb>& boxes, const std::vector<uint8_t>& active,
                                 std::vector<std::pair<uint32_t, uint32_t>>& pairs) {
   pairs.clear();
@@ -139,7 +154,13 @@ void SweepBroadphase::findPairs(const std::vector<Aabb>& boxes, const std::vecto
       pairs.emplace_back(std::min(g, i), std::max(g, i));
     }
   }
-  std::sort(pairs.begin(), pairs.end());
+  // Sorted by (first, second): two stable counting sorts on proxy indices (by second, then by
+  // first), linear where a comparison sort took a tenth of the broadphase's time on a pile.
+  scratch_.resize(pairs.size());
+  countingSortBy(
+      pairs, scratch_, n, [](const auto& p) { return p.second; }, fill_);
+  countingSortBy(
+      scratch_, pairs, n, [](const auto& p) { return p.first; }, fill_);
 }
 
 }  // namespace grip

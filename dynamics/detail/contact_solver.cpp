@@ -120,8 +120,12 @@ void solveFriction(SolverManifold& m, SolverBody& A, SolverBody& B, const SolveC
   const bool both = moves == Moves::Both;
   const double mass1 = both ? t1.mass : m.shockFrictionMass[0];
   const double mass2 = both ? t2.mass : m.shockFrictionMass[1];
-  double n1 = old1 - scale * mass1 * (rowVelocity(A, B, t1) + bias1);
-  double n2 = old2 - scale * mass2 * (rowVelocity(A, B, t2) + bias2);
+  const Vec3 dv = B.v - A.v;
+  auto velocity = [&](const SolverRow& r) {
+    return r.lin.dot(dv) + r.angB.dot(B.w) - r.angA.dot(A.w);
+  };
+  double n1 = old1 - scale * mass1 * (velocity(t1) + bias1);
+  double n2 = old2 - scale * mass2 * (velocity(t2) + bias2);
   const double limit = mu * normal;
   const double len2 = n1 * n1 + n2 * n2;
   const bool capped = len2 > limit * limit;
@@ -130,8 +134,11 @@ void solveFriction(SolverManifold& m, SolverBody& A, SolverBody& B, const SolveC
     n1 *= s, n2 *= s;
   }
   t1.impulse = n1, t2.impulse = n2;
-  applyRow(A, B, t1, n1 - old1, moves);
-  applyRow(A, B, t2, n2 - old2, moves);
+  // Both tangent impulses as one linear and one angular change per body.
+  const double d1 = n1 - old1, d2 = n2 - old2;
+  const Vec3 linear = d1 * t1.lin + d2 * t2.lin;
+  if (moves != Moves::OnlyB) A.v -= A.invMass * linear, A.w -= d1 * t1.dwA + d2 * t2.dwA;
+  if (moves != Moves::OnlyA) B.v += B.invMass * linear, B.w += d1 * t1.dwB + d2 * t2.dwB;
   // Breaking loose means the cone cannot stop the patch: still moving after the capped
   // impulse. Capped while arresting a small residual motion is still sticking.
   if (capped && mayBreak && !m.sliding) {
@@ -141,9 +148,11 @@ void solveFriction(SolverManifold& m, SolverBody& A, SolverBody& B, const SolveC
   if (m.count > 1) {
     const double oldT = twist.impulse, maxT = mu * normal * m.twistRadius;
     const double massT = both ? twist.mass : m.shockFrictionMass[2];
-    const double nt = std::clamp(oldT - massT * rowVelocity(A, B, twist), -maxT, maxT);
+    const double spin = twist.angB.dot(B.w) - twist.angA.dot(A.w);  // the twist has no lin
+    const double nt = std::clamp(oldT - massT * spin, -maxT, maxT);
     twist.impulse = nt;
-    applyRow(A, B, twist, nt - oldT, moves);
+    if (moves != Moves::OnlyB) A.w -= (nt - oldT) * twist.dwA;
+    if (moves != Moves::OnlyA) B.w += (nt - oldT) * twist.dwB;
   }
 }
 
@@ -340,11 +349,9 @@ bool solveNormalActive(const SolverManifold& m, const double (*K)[4], const doub
                        const double* bias, double* delta) {
   int active[4], na = 0;
   for (int k = 0; k < m.count; ++k) {
-    delta[k] = 0.0;
-    if (m.impulse[k] > 0.0 || vn[k] + bias[k] < 0.0)
-      active[na++] = k;
-    else
-      delta[k] = -m.impulse[k];
+    const bool pushing = m.impulse[k] > 0.0 || vn[k] + bias[k] < 0.0;
+    if (pushing) active[na++] = k;
+    delta[k] = pushing ? 0.0 : -m.impulse[k];
   }
   if (na == 4) return false;
   double a[3][3], r[3], x[3];
@@ -405,22 +412,24 @@ void solveNormal(SolverManifold& m, SolverBody& A, SolverBody& B, const SolveCon
   const Vec3 turn = B.dtheta - A.dtheta;
   const double shift = linearShift + m.armB.dot(B.dtheta) - m.armA.dot(A.dtheta);
   const double turn1 = m.friction[0].lin.dot(turn), turn2 = m.friction[1].lin.dot(turn);
-  double vn[4], bias[4], delta[4] = {0, 0, 0, 0};
+  // (Fixed-size zeroing: a loop of count zero stores becomes a memset call.)
+  double vn[4], bias[4], delta[4] = {0.0, 0.0, 0.0, 0.0};
   bool rigid = true, idle = true;
   uint8_t softRows = 0;  // bit k: row k pushes out softly
   int speculative = 0;
   for (int k = 0; k < m.count; ++k) {
     // Current separation, linearised in the bodies' motion since the step began.
     const double s = m.separation[k] + shift + m.alpha[k] * turn1 + m.beta[k] * turn2;
-    bias[k] = 0.0;
+    double b = 0.0;
     if (s > 0.0) {
-      bias[k] = s * ctx.invH;  // speculative: may close the gap, no more
+      b = s * ctx.invH;  // speculative: may close the gap, no more
     } else if (useBias && s < -ctx.slop) {
       // Overlap beyond the slop: pushed out softly. Within the slop the contact is rigid.
-      bias[k] = std::max(soft.biasRate * (s + ctx.slop), -ctx.pushout);
+      b = std::max(soft.biasRate * (s + ctx.slop), -ctx.pushout);
       softRows |= 1u << k;
       rigid = false;
     }
+    bias[k] = b;
     vn[k] = g[0] + m.alpha[k] * g[1] + m.beta[k] * g[2];
     speculative += s > 0.0;
     idle &= m.impulse[k] == 0.0 && vn[k] + bias[k] >= 0.0;
@@ -434,15 +443,16 @@ void solveNormal(SolverManifold& m, SolverBody& A, SolverBody& B, const SolveCon
       solveNormalBlock(m, A, B, g, bias, moves))
     return;
   // Fewer points, or a guess that failed: the points' own coupling, exactly or by sweeps.
-  const double(*K)[4] = moves == Moves::Both ? m.K : m.shockK;
+  const bool both = moves == Moves::Both;
+  const double(*K)[4] = both ? m.K : m.shockK;
   const bool exact = rigid && !m.direct && solveNormalActive(m, K, vn, bias, delta);
   if (!exact) {
-    double massScale[4], impulseScale[4], mass[4];
+    const double* mass = both ? m.pointMass : m.shockPointMass;
+    double massScale[4], impulseScale[4];
     for (int k = 0; k < m.count; ++k) {
       const bool softRow = softRows & (1u << k);
       massScale[k] = softRow ? soft.massScale : 1.0;
       impulseScale[k] = softRow ? soft.impulseScale : 0.0;
-      mass[k] = K[k][k] > 0.0 ? 1.0 / K[k][k] : 0.0;
     }
     const int sweeps = m.count > 1 ? ctx.manifoldSweeps : 1;
     for (int it = 0; it < sweeps; ++it) {
@@ -812,14 +822,10 @@ void World::Impl::prepareRows(SolverManifold& m) {
     const Vec3 arm = d.cross(n);
     m.alpha[k] = arm.dot(t1), m.beta[k] = arm.dot(t2);
     m.twistRadius += d.norm();
-    const double* kb = &m.basisK[0][0];
-    const double a = m.alpha[k], b = m.beta[k];
-    const double kk =
-        kb[0] + 2.0 * (a * kb[1] + b * kb[2]) + a * a * kb[4] + 2.0 * a * b * kb[5] + b * b * kb[8];
-    m.pointMass[k] = kk > 0.0 ? 1.0 / kk : 0.0;
   }
   m.twistRadius /= m.count;
   pointCoupling(m, m.basisK, m.K);
+  for (int k = 0; k < m.count; ++k) m.pointMass[k] = m.K[k][k] > 0.0 ? 1.0 / m.K[k][k] : 0.0;
   if (m.restitution != 0.0) {  // read only by bouncy manifolds: each point's approach speed
     const Vec3 spin = B.w - A.w;
     const double g0 = n.dot(B.v - A.v) + m.armB.dot(B.w) - m.armA.dot(A.w);
@@ -1126,6 +1132,8 @@ void World::Impl::prepareShock(size_t i) {
   const SolverBody &A = solverBodies[m.a], &B = solverBodies[m.b];
   basisCoupling(m, A, B, moves, m.shockBasisK);
   pointCoupling(m, m.shockBasisK, m.shockK);
+  for (int k = 0; k < m.count; ++k)
+    m.shockPointMass[k] = m.shockK[k][k] > 0.0 ? 1.0 / m.shockK[k][k] : 0.0;
   for (int r = 0; r < 3; ++r) m.shockFrictionMass[r] = rowMass(A, B, m.friction[r], moves);
   if (m.block && !invertBlock(m.shockBasisK, m.shockBlockInv)) m.block = false;
 }

@@ -139,7 +139,7 @@ struct SolverManifold {
   double impulse[4] = {};              // accumulated normal impulse
   double maxImpulse[4] = {};           // largest increase this step (restitution)
   double approach[4] = {};             // fastest normal approach this step (restitution)
-  double pointMass[4] = {};            // effective mass of the point's normal row
+  double pointMass[4] = {}, shockPointMass[4] = {};  // effective mass of the normal row
 
   // The basis rows: the normal at the patch centre (velocity n.(vB - vA) + armB.wB - armA.wA)
   // and the relative rotations about t1 and t2 (t.(wB - wA)).
