@@ -187,6 +187,23 @@ void pointCoupling(const SolverManifold& m, const double (&kb)[3][3], double (&K
       K[i][j] = kc[j][0] + m.alpha[i] * kc[j][1] + m.beta[i] * kc[j][2];
 }
 
+// The points' coupling K (and for the shock pass the point masses 1 / K_kk) for the bodies a
+// solve moves, prepared the first time a solve needs them: a face patch that the exact patch
+// solve handles never does.
+const double (*pointCouplings(SolverManifold& m, bool both))[4] {
+  if (both) {
+    if (!m.couplingReady) pointCoupling(m, m.basisK, m.K), m.couplingReady = true;
+    return m.K;
+  }
+  if (!m.shockCouplingReady) {
+    pointCoupling(m, m.shockBasisK, m.shockK);
+    for (int k = 0; k < m.count; ++k)
+      m.shockPointMass[k] = m.shockK[k][k] > 0.0 ? 1.0 / m.shockK[k][k] : 0.0;
+    m.shockCouplingReady = true;
+  }
+  return m.shockK;
+}
+
 // The three basis rows' velocities: centre normal, relative spin about t1 and about t2.
 inline void basisVelocity(const SolverManifold& m, const SolverBody& A, const SolverBody& B,
                           double linearVelocity, double (&g)[3]) {
@@ -439,12 +456,13 @@ void solveNormal(SolverManifold& m, SolverBody& A, SolverBody& B, const SolveCon
   if (useBias && m.restitution != 0.0)
     for (int k = 0; k < m.count; ++k) m.approach[k] = std::min(m.approach[k], vn[k]);
   if (idle) return;  // nothing pushes and nothing closes faster than allowed
-  if (rigid && !m.direct && m.block && (speculative == 0 || speculative == m.count) &&
+  const bool block = moves == Moves::Both ? m.block : m.shockBlock;
+  if (rigid && !m.direct && block && (speculative == 0 || speculative == m.count) &&
       solveNormalBlock(m, A, B, g, bias, moves))
     return;
   // Fewer points, or a guess that failed: the points' own coupling, exactly or by sweeps.
   const bool both = moves == Moves::Both;
-  const double(*K)[4] = both ? m.K : m.shockK;
+  const double(*K)[4] = pointCouplings(m, both);
   const bool exact = rigid && !m.direct && solveNormalActive(m, K, vn, bias, delta);
   if (!exact) {
     const double* mass = both ? m.pointMass : m.shockPointMass;
@@ -492,6 +510,17 @@ void warmStart(const SolverManifold& m, SolverBody& A, SolverBody& B) {
   B.v += B.invMass * linear, B.w += dwB;
 }
 
+// The shock pass's rows, where only one body moves: the basis coupling, the friction masses
+// and the patch inverse, prepared the first time a shock pass solves the manifold (many
+// manifolds of a pile never meet one with rows ready).
+void prepareShockRows(SolverManifold& m, const SolverBody& A, const SolverBody& B, Moves moves) {
+  basisCoupling(m, A, B, moves, m.shockBasisK);
+  m.shockCouplingReady = false;
+  for (int r = 0; r < 3; ++r) m.shockFrictionMass[r] = rowMass(A, B, m.friction[r], moves);
+  m.shockBlock = m.block && invertBlock(m.shockBasisK, m.shockBlockInv);
+  m.shockReady = true;
+}
+
 // Friction first, against the current normal impulse; non-penetration last, so it has the
 // final word (as Jolt orders them; measured: normal-first lets tall stacks drift). A new
 // contact (no warm start) solves its normal before and after its friction; static friction
@@ -501,6 +530,7 @@ inline void solveManifold(SolverManifold& m, std::vector<SolverBody>& bodies,
   SolverBody& A = bodies[m.a];
   SolverBody& B = bodies[m.b];
   const bool mayBreak = !useBias && m.warm;
+  if (moves != Moves::Both && !m.shockReady) prepareShockRows(m, A, B, moves);
   // A new contact's normal goes first too, so its friction is not judged against a zero
   // normal impulse (the second solve takes out the tipping that friction at the patch adds).
   if (!m.warm) solveNormal(m, A, B, ctx, useBias, moves);
@@ -824,8 +854,14 @@ void World::Impl::prepareRows(SolverManifold& m) {
     m.twistRadius += d.norm();
   }
   m.twistRadius /= m.count;
-  pointCoupling(m, m.basisK, m.K);
-  for (int k = 0; k < m.count; ++k) m.pointMass[k] = m.K[k][k] > 0.0 ? 1.0 / m.K[k][k] : 0.0;
+  for (int k = 0; k < m.count; ++k) {  // 1 / K_kk, K_kk = c_k . Kb c_k
+    const double(&kb)[3][3] = m.basisK;
+    const double a = m.alpha[k], b = m.beta[k];
+    const double kk = kb[0][0] + 2.0 * (a * kb[0][1] + b * kb[0][2]) + a * a * kb[1][1] +
+                      2.0 * a * b * kb[1][2] + b * b * kb[2][2];
+    m.pointMass[k] = kk > 0.0 ? 1.0 / kk : 0.0;
+  }
+  m.couplingReady = m.shockCouplingReady = false;
   if (m.restitution != 0.0) {  // read only by bouncy manifolds: each point's approach speed
     const Vec3 spin = B.w - A.w;
     const double g0 = n.dot(B.v - A.v) + m.armB.dot(B.w) - m.armA.dot(A.w);
@@ -871,17 +907,23 @@ void World::Impl::integrateVelocities(double h) {
     const Body& b = bodies[awakeBodies[k]];
     SolverBody& s = solverBodies[k + 1];
     if (!b.isDynamic()) continue;
-    s.v += h *
-           (b.invMass * tameLoad(b.force) + b.gravityScale * def.gravity + tameLoad(b.linearAccel));
-    if (!b.torque.isZero() || !b.angularAccel.isZero()) {  // most bodies: gravity only
+    // Most bodies feel gravity only: the loads, the damping and the limits are skipped where
+    // they would change nothing (adding a zero load, scaling by 1, a speed within the limit).
+    if (b.force.isZero() && b.linearAccel.isZero()) {
+      s.v += h * (b.gravityScale * def.gravity);
+    } else {
+      s.v += h * (b.invMass * tameLoad(b.force) + b.gravityScale * def.gravity +
+                  tameLoad(b.linearAccel));
+    }
+    if (!b.torque.isZero() || !b.angularAccel.isZero()) {
       const Mat3 R = (s.dq * b.pose.q).toRotationMatrix();
       s.w += h * (R * (b.invInertiaLocal * (R.transpose() * tameLoad(b.torque))) +
                   tameLoad(b.angularAccel));
     }
-    s.v *= 1.0 / (1.0 + h * b.linearDamping);
-    s.w *= 1.0 / (1.0 + h * b.angularDamping);
-    s.v = limitLength(s.v, def.maxLinearSpeed);
-    s.w = limitLength(s.w, def.maxAngularSpeed);
+    if (b.linearDamping != 0.0) s.v *= 1.0 / (1.0 + h * b.linearDamping);
+    if (b.angularDamping != 0.0) s.w *= 1.0 / (1.0 + h * b.angularDamping);
+    if (!(s.v.norm() <= def.maxLinearSpeed)) s.v = limitLength(s.v, def.maxLinearSpeed);
+    if (!(s.w.norm() <= def.maxAngularSpeed)) s.w = limitLength(s.w, def.maxAngularSpeed);
   }
 }
 
@@ -1128,14 +1170,7 @@ void World::Impl::prepareShock(size_t i) {
   Moves moves = la < lb ? Moves::OnlyB : lb < la ? Moves::OnlyA : Moves::Both;
   if (solvedDirectly[i]) moves = Moves::Both, m.block = false, m.direct = true;
   m.shockMoves = static_cast<uint8_t>(moves);
-  if (moves == Moves::Both || !m.rowsReady) return;  // else again after prepareRows
-  const SolverBody &A = solverBodies[m.a], &B = solverBodies[m.b];
-  basisCoupling(m, A, B, moves, m.shockBasisK);
-  pointCoupling(m, m.shockBasisK, m.shockK);
-  for (int k = 0; k < m.count; ++k)
-    m.shockPointMass[k] = m.shockK[k][k] > 0.0 ? 1.0 / m.shockK[k][k] : 0.0;
-  for (int r = 0; r < 3; ++r) m.shockFrictionMass[r] = rowMass(A, B, m.friction[r], moves);
-  if (m.block && !invertBlock(m.shockBasisK, m.shockBlockInv)) m.block = false;
+  m.shockReady = false;  // its coupling waits for the first shock pass (prepareShockRows)
 }
 
 }  // namespace grip

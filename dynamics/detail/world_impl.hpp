@@ -132,6 +132,8 @@ struct SolverManifold {
   // Shock propagation moves only the body farther from the ground (which one is fixed for
   // the step): 0 both, 1 only a, 2 only b.
   uint8_t shockMoves = 0;
+  bool shockReady = false;  // the shock rows below are prepared (prepareShockRows)
+  bool shockBlock = false;  // the exact patch solve applies in the shock pass
 
   // Per point.
   double separation[4] = {};           // at the step's start
@@ -148,6 +150,7 @@ struct SolverManifold {
   Vec3 spinA[2], spinB[2];                           // I^-1 t1, I^-1 t2 of each body
   double basisK[3][3] = {}, shockBasisK[3][3] = {};  // the basis rows' coupling Jb M^-1 Jb^T
   double K[4][4] = {}, shockK[4][4] = {};            // the points' coupling K_ij = c_i . Kb c_j
+  bool couplingReady = false, shockCouplingReady = false;  // K, shockK (pointCouplings)
 
   Vec3 patchCentre = Vec3::Zero();
   SolverRow friction[3];               // tangent 1, tangent 2, twist
