@@ -10,6 +10,7 @@ namespace {
 
 // A proxy wider than this many strips along some axis is tested against every proxy.
 constexpr double kWideStrips = 8.0;
+constexpr uint32_t kBruteForce = 16;  // proxies up to which every pair is tested directly
 
 }  // namespace
 
@@ -32,7 +33,12 @@ void SweepBroadphase::findPairs(const std::vector<Aabb>& boxes, const std::vecto
                                 std::vector<std::pair<uint32_t, uint32_t>>& pairs) {
   pairs.clear();
   const uint32_t n = static_cast<uint32_t>(boxes.size());
-  if (n < 2) return;
+  if (n <= kBruteForce) {  // a few proxies: every pair, in order, beats setting up the sweep
+    for (uint32_t i = 0; i < n; ++i)
+      for (uint32_t j = i + 1; j < n; ++j)
+        if ((active[i] | active[j]) && boxes[i].overlaps(boxes[j])) pairs.emplace_back(i, j);
+    return;
+  }
 
   // Wide proxies (the ground, a table: wider than kWideStrips strips along some axis, or with a
   // NaN bound) are few; they are tested against every proxy and take no part in the rest.

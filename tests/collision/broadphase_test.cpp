@@ -96,6 +96,34 @@ TEST(Broadphase, WideInfiniteAndInvalidBoxesArePairedByDefinition) {
   for (const auto& p : pairs) EXPECT_TRUE(p.first != 3u && p.second != 3u);
 }
 
+TEST(Broadphase, FewProxiesAndManyGiveTheSamePairs) {
+  // Up to 16 proxies every pair is tested directly, above that the sweep runs: every count
+  // around the switch gives the definition's pairs (a plane, a NaN box and inactive proxies
+  // among them).
+  constexpr double inf = std::numeric_limits<double>::infinity();
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(-0.6, 0.6);
+  std::vector<Aabb> all;
+  std::vector<uint8_t> allActive;
+  all.push_back({Vec3(-inf, -inf, -inf), Vec3(inf, 0.0, inf)});
+  allActive.push_back(0);
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  all.push_back({Vec3(nan, 0, 0), Vec3(1, 1, 1)});
+  allActive.push_back(1);
+  for (int i = 0; i < 40; ++i) {
+    all.push_back(boxAt(Vec3(u(rng), u(rng), u(rng)), Vec3::Constant(0.15)));
+    allActive.push_back(i % 4 != 0);
+  }
+  SweepBroadphase broadphase;
+  Pairs pairs;
+  for (size_t n = 0; n <= all.size(); ++n) {
+    const std::vector<Aabb> boxes(all.begin(), all.begin() + static_cast<long>(n));
+    const std::vector<uint8_t> active(allActive.begin(), allActive.begin() + static_cast<long>(n));
+    broadphase.findPairs(boxes, active, pairs);
+    EXPECT_EQ(pairs, bruteForce(boxes, active)) << n << " proxies";
+  }
+}
+
 TEST(Broadphase, IdenticalBoxesAllPair) {
   // Zero median width along every axis: all boxes are points at one place.
   std::vector<Aabb> boxes(20, Aabb{Vec3::Zero(), Vec3::Zero()});
