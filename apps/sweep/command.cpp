@@ -11,7 +11,7 @@ void addOptions(CLI::App& app, CommandLine& c) {
   app.add_option("--scene", c.options.scenes, "a scene to run (repeatable; default: all)")
       ->take_all();
   app.add_flag("--quick", c.options.quick, "a small grid and a short pile (tests, CI)");
-  app.add_option("--repeats", c.options.repeats, "timing runs per setting, median kept")
+  app.add_option("--repeats", c.options.repeats, "timing rounds per setting, the fastest kept")
       ->capture_default_str();
 }
 

@@ -107,7 +107,7 @@ std::string svg(const std::vector<Sample>& input) {
   }
   o += "<text x=\"" + format("%.0f", lx + 10) +
        "\" y=\"20\">line: Pareto front; ring: default setting; x: wall s per simulated s "
-       "(median); y: error</text>\n";
+       "(fastest of the repeats); y: error</text>\n";
   for (size_t k = 0; k < scenes.size(); ++k) {
     const int ox = static_cast<int>(k % cols) * kW, oy = kTop + static_cast<int>(k / cols) * kH;
     std::vector<const Sample*> mine;

@@ -265,38 +265,48 @@ const std::vector<std::string>& sceneNames() {
   return names;
 }
 
-Sample measure(const Engine& e, const std::string& scene, const Settings& s, bool quick,
-               int repeats) {
-  const SceneSpec& sp = spec(scene);
-  if (repeats < 1)
-    throw Error("--repeats", "must be positive (got " + std::to_string(repeats) + ")");
-  // A timing run repeats the scene until its steps have taken 50 ms (a one-box scene takes
-  // tens of microseconds, the timer's and the machine's jitter would decide it otherwise);
-  // the median of `repeats` such runs is kept.
+namespace {
+
+// One timing run: the scene repeated until its steps have taken 50 ms (a one-box scene takes
+// tens of microseconds; the timer's and the machine's jitter would decide it otherwise).
+// Returns the wall time per simulated second; `o` is the last run's outcome.
+double timingRun(const SceneSpec& sp, const Engine& e, const Settings& s, bool quick, Outcome& o) {
   constexpr double kMinWall = 0.05;
-  std::vector<double> perSecond;
-  Outcome o;
-  for (int r = 0; r < repeats; ++r) {
-    double wall = 0, simulated = 0;
-    do {
-      o = sp.run(e, s, quick);
-      wall += o.wall, simulated += o.simulated;
-    } while (wall < kMinWall && o.wall > 0.0);
-    perSecond.push_back(wall / simulated);
-  }
-  std::nth_element(perSecond.begin(), perSecond.begin() + repeats / 2, perSecond.end());
+  double wall = 0, simulated = 0;
+  do {
+    o = sp.run(e, s, quick);
+    wall += o.wall, simulated += o.simulated;
+  } while (wall < kMinWall && o.wall > 0.0);
+  return wall / simulated;
+}
+
+Sample sampleOf(const Engine& e, const SceneSpec& sp, const Settings& s, const Outcome& o,
+                double seconds) {
   Sample out;
   out.engine = e.name;
   out.scene = sp.name;
   out.settings = s;
   out.isDefault = s.dt == e.defaults.dt && s.substeps == e.defaults.substeps &&
                   s.iterations == e.defaults.iterations;
-  out.seconds = perSecond[repeats / 2];
+  out.seconds = seconds;
   out.error = o.error;
   out.errorName = sp.errorName;
   out.error2 = o.error2;
   out.error2Name = sp.error2Name;
   return out;
+}
+
+}  // namespace
+
+Sample measure(const Engine& e, const std::string& scene, const Settings& s, bool quick,
+               int repeats) {
+  const SceneSpec& sp = spec(scene);
+  if (repeats < 1)
+    throw Error("--repeats", "must be positive (got " + std::to_string(repeats) + ")");
+  Outcome o;
+  double fastest = std::numeric_limits<double>::infinity();
+  for (int r = 0; r < repeats; ++r) fastest = std::min(fastest, timingRun(sp, e, s, quick, o));
+  return sampleOf(e, sp, s, o, fastest);
 }
 
 void validate(const Options& o) {
@@ -311,8 +321,19 @@ std::vector<Sample> run(const std::vector<Engine>& engines, const Options& o,
   const std::vector<std::string>& chosen = o.scenes.empty() ? sceneNames() : o.scenes;
   std::vector<Sample> out;
   for (const std::string& name : chosen) {
+    const SceneSpec& sp = spec(name);
+    // Every engine's settings for this scene; each is timed once per round, the rounds one
+    // after another, and the fastest run is kept: a slow spell of a shared machine then falls
+    // on every engine alike instead of on whichever was being timed.
+    struct Job {
+      const Engine* engine;
+      Settings settings;
+      Outcome outcome;
+      double fastest = std::numeric_limits<double>::infinity();
+    };
+    std::vector<Job> jobs;
     for (const Engine& e : engines) {
-      if (spec(name).needsHands && !e.hands) continue;
+      if (sp.needsHands && !e.hands) continue;
       std::vector<Settings> grid = e.grid(name, o.quick);
       if (grid.empty()) continue;  // an engine that is not swept on this scene
       const bool hasDefault = std::any_of(grid.begin(), grid.end(), [&](const Settings& s) {
@@ -320,10 +341,14 @@ std::vector<Sample> run(const std::vector<Engine>& engines, const Options& o,
                s.iterations == e.defaults.iterations;
       });
       if (!hasDefault) grid.push_back(e.defaults);
-      for (const Settings& s : grid) {
-        out.push_back(measure(e, name, s, o.quick, o.repeats));
-        if (progress) progress(out.back());
-      }
+      for (const Settings& s : grid) jobs.push_back({&e, s, Outcome{}});
+    }
+    for (int round = 0; round < o.repeats; ++round)
+      for (Job& j : jobs)
+        j.fastest = std::min(j.fastest, timingRun(sp, *j.engine, j.settings, o.quick, j.outcome));
+    for (const Job& j : jobs) {
+      out.push_back(sampleOf(*j.engine, sp, j.settings, j.outcome, j.fastest));
+      if (progress) progress(out.back());
     }
   }
   return out;

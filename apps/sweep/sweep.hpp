@@ -90,7 +90,7 @@ std::vector<Settings> product(const std::vector<double>& ratesHz, const std::vec
                               const std::vector<int>& iterations);
 
 // One sample: a scene at one setting. seconds: wall time of the steps alone per simulated
-// second (median of the repeats). error2 is NaN for scenes with a single metric.
+// second (the fastest of the repeats). error2 is NaN for scenes with a single metric.
 struct Sample {
   std::string engine, scene;
   Settings settings;
@@ -105,21 +105,23 @@ struct Sample {
 // The scenes, in the order the chart shows them.
 const std::vector<std::string>& sceneNames();
 
-// One scene at one setting, timed `repeats` times (the grid's inner loop; tests call it for a
-// single setting). Throws grip::Error for an unknown scene.
+// One scene at one setting, timed `repeats` times in a row, the fastest kept (tests call it for
+// a single setting; run() interleaves the repeats instead). Throws grip::Error for an unknown
+// scene.
 Sample measure(const Engine& e, const std::string& scene, const Settings& s, bool quick,
                int repeats = 1);
 
 struct Options {
   std::vector<std::string> scenes;  // empty: all
   bool quick = false;               // a small grid, short pile (tests, CI)
-  int repeats = 3;                  // timing repeats per sample (the median is kept)
+  int repeats = 3;                  // timing rounds per sample (the fastest is kept)
 };
 
 // Throws grip::Error for an unknown scene name or a non-positive repeat count.
 void validate(const Options& o);
-// Runs every engine over every chosen scene. Throws grip::Error for an unknown scene name or a
-// non-positive repeat count. progress (may be empty) is told of each sample as it is done.
+// Runs every engine over every chosen scene: per scene, `repeats` rounds over every engine's
+// settings, the fastest run of each setting kept. Throws grip::Error for an unknown scene name
+// or a non-positive repeat count. progress (may be empty) is told of each sample as it is done.
 std::vector<Sample> run(const std::vector<Engine>& engines, const Options& o,
                         const std::function<void(const Sample&)>& progress = {});
 
