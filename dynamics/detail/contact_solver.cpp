@@ -392,6 +392,26 @@ bool solveNormalActive(const SolverManifold& m, const double (*K)[4], const doub
   return true;
 }
 
+// Gauss-Seidel sweeps over a manifold's N points: each point's impulse solved against the
+// others' current ones (soft rows scaled), clamped to push only.
+struct Sweep {
+  const double (*K)[4];
+  const double *vn, *bias, *mass, *massScale, *impulseScale, *impulse;
+};
+template <int N>
+void gaussSeidel(const Sweep& s, int sweeps, double* delta) {
+  for (int it = 0; it < sweeps; ++it) {
+    for (int k = 0; k < N; ++k) {
+      double v = s.vn[k];
+      for (int j = 0; j < N; ++j) v += s.K[k][j] * delta[j];
+      const double total = s.impulse[k] + delta[k];
+      const double impulse =
+          -s.mass[k] * s.massScale[k] * (v + s.bias[k]) - s.impulseScale[k] * total;
+      delta[k] = std::max(total + impulse, 0.0) - s.impulse[k];
+    }
+  }
+}
+
 // Whether a manifold is certainly idle (no point pushes, each closes slower than its gap
 // allows), from bounds on every point's separation and normal velocity: the per-point test
 // below costs more, and half the manifolds of a pile are such gaps. The margin keeps this an
@@ -473,14 +493,20 @@ void solveNormal(SolverManifold& m, SolverBody& A, SolverBody& B, const SolveCon
       impulseScale[k] = softRow ? soft.impulseScale : 0.0;
     }
     const int sweeps = m.count > 1 ? ctx.manifoldSweeps : 1;
-    for (int it = 0; it < sweeps; ++it) {
-      for (int k = 0; k < m.count; ++k) {
-        double v = vn[k];
-        for (int j = 0; j < m.count; ++j) v += K[k][j] * delta[j];
-        const double total = m.impulse[k] + delta[k];
-        const double impulse = -mass[k] * massScale[k] * (v + bias[k]) - impulseScale[k] * total;
-        delta[k] = std::max(total + impulse, 0.0) - m.impulse[k];
-      }
+    const Sweep sweep{K, vn, bias, mass, massScale, impulseScale, m.impulse};
+    switch (m.count) {  // the point count as a constant: the sweep's loops unroll
+      case 1:
+        gaussSeidel<1>(sweep, sweeps, delta);
+        break;
+      case 2:
+        gaussSeidel<2>(sweep, sweeps, delta);
+        break;
+      case 3:
+        gaussSeidel<3>(sweep, sweeps, delta);
+        break;
+      default:
+        gaussSeidel<4>(sweep, sweeps, delta);
+        break;
     }
   }
   // Apply the point impulses as one: their three basis sums.
