@@ -6,6 +6,8 @@
 #include <fstream>
 #include <sstream>
 
+#include <unistd.h>
+
 #include "scene/recording.hpp"
 #include "scene/scene.hpp"
 
@@ -17,7 +19,9 @@ namespace fs = std::filesystem;
 // The lines of a short grasp_lift recording (every 10th frame), written once.
 const std::vector<std::string>& recordedLines() {
   static const std::vector<std::string> lines = [] {
-    const fs::path dir = fs::temp_directory_path() / "grip_recording_test";
+    // ctest runs each test in its own process, several at once: a folder of this process's.
+    const fs::path dir =
+        fs::temp_directory_path() / ("grip_recording_test_" + std::to_string(::getpid()));
     fs::remove_all(dir);
     RunOptions opt;
     opt.outDir = dir.string();

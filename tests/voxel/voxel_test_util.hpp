@@ -8,6 +8,8 @@
 #include <filesystem>
 #include <string>
 
+#include <unistd.h>
+
 #include "core/error.hpp"
 #include "voxel/voxel.hpp"
 
@@ -33,10 +35,18 @@ inline std::string cgalMesh(const std::string& name) {
   const fs::path dir = fs::temp_directory_path() / "grip_cgal_data";
   const fs::path file = dir / "data" / "meshes" / name;
   if (!fs::exists(file)) {
-    fs::create_directories(dir);
-    const std::string cmd = "tar -xzf " + std::string(kCgalArchive) + " -C " + dir.string() +
+    // ctest runs tests in parallel processes: each extracts into a folder of its own and moves
+    // the finished file into place (a rename is atomic), so no test reads a half-written mesh.
+    const fs::path mine = dir / ("extract_" + std::to_string(::getpid()));
+    fs::create_directories(mine);
+    fs::create_directories(file.parent_path());
+    const std::string cmd = "tar -xzf " + std::string(kCgalArchive) + " -C " + mine.string() +
                             " 'data/meshes/" + name + "' 2>/dev/null";
-    if (std::system(cmd.c_str()) != 0 || !fs::exists(file)) return {};
+    const fs::path extracted = mine / "data" / "meshes" / name;
+    std::error_code ec;
+    if (std::system(cmd.c_str()) == 0 && fs::exists(extracted)) fs::rename(extracted, file, ec);
+    fs::remove_all(mine, ec);
+    if (!fs::exists(file)) return {};
   }
   return file.string();
 }

@@ -161,7 +161,8 @@ class Recording {
     }
     std::filesystem::rename(temp_, final_, ec);
     if (ec) {
-      std::filesystem::remove(temp_, ec);
+      std::error_code removeError;  // the rename's error is the one to report
+      std::filesystem::remove(temp_, removeError);
       throw Error(final_.string(), "cannot rename the finished recording: " + ec.message());
     }
   }
