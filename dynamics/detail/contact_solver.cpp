@@ -420,7 +420,7 @@ void gaussSeidel(const Sweep& s, int sweeps, double* delta) {
 inline bool idleByBounds(const SolverManifold& m, const SolverBody& A, const SolverBody& B,
                          const SolveContext& ctx, bool useBias, double linearVelocity,
                          double linearShift) {
-  if (useBias && m.restitution != 0.0) return false;
+  if (useBias && m.bouncy) return false;
   // A manifold without rows holds no impulse (prepareManifold); one with rows is checked.
   if (m.rowsReady)
     for (int k = 0; k < m.count; ++k)
@@ -806,6 +806,7 @@ void World::Impl::prepareManifold(SolverManifold& m) {
   m.staticFriction = combineFriction(A.material.staticFriction, B.material.staticFriction);
   m.dynamicFriction = combineFriction(A.material.dynamicFriction, B.material.dynamicFriction);
   m.restitution = std::max(A.material.restitution, B.material.restitution);
+  m.bouncy = m.restitution != 0.0;
   m.count = c.m.pointCount;
   m.anchored = true, m.block = false, m.direct = false;
   m.warm = false;

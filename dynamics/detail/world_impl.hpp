@@ -81,14 +81,16 @@ struct ContactManifold {
 };
 
 // Velocity-level state of one body inside the solver; index 0 is the immovable world.
-struct SolverBody {
+// Aligned so that what the solve passes read of a body (velocities, motion since the step
+// began, inverse mass) spans two cache lines.
+struct alignas(64) SolverBody {
   Vec3 v = Vec3::Zero(), w = Vec3::Zero();
-  Vec3 dp = Vec3::Zero();          // centre-of-mass displacement since the step began
-  Vec3 dtheta = Vec3::Zero();      // small rotation since the step began (for separations)
+  Vec3 dp = Vec3::Zero();      // centre-of-mass displacement since the step began
+  Vec3 dtheta = Vec3::Zero();  // small rotation since the step began (for separations)
+  double invMass = 0.0;
+  Mat3 invI = Mat3::Zero();        // world inverse inertia, fixed over the step
   Quat dq = Quat::Identity();      // the same rotation, integrated exactly (for the pose)
   Vec3 correction = Vec3::Zero();  // rotation applied by the position projection
-  double invMass = 0.0;
-  Mat3 invI = Mat3::Zero();  // world inverse inertia, fixed over the step
 };
 
 // One constraint row, prepared so that solving it costs a few dot products:
@@ -112,23 +114,26 @@ struct SolverRow {
 // centre's normal velocity and g1, g2 the relative spin about t1 and t2, and any set of point
 // impulses acts on the bodies only through its three sums (sum l_k, sum alpha_k l_k, sum
 // beta_k l_k). A manifold stores the three basis rows once instead of a row per point.
-struct SolverManifold {
+struct alignas(64) SolverManifold {
+  // The first cache line holds what the solve passes read of every manifold, most of which
+  // they find idle (idleByBounds): the bodies, the normal, the bounds for skipping a manifold
+  // that cannot push (the smallest separation at the step's start and the largest |r x n| of a
+  // point on each body), the point count and two flags.
   int a = 0, b = 0;             // solver body indices
-  int source = 0;               // index into the contact manifold list
   Vec3 normal = Vec3::UnitY();  // from a to b
+  double minSeparation = 0.0, reachA = 0.0, reachB = 0.0;
+  int count = 0;
+  bool rowsReady = false;  // the basis, friction rows and patch solve are prepared (prepareRows)
+  bool bouncy = false;     // restitution != 0
+
+  int source = 0;  // index into the contact manifold list
   double staticFriction = 0.0, dynamicFriction = 0.0, restitution = 0.0;
   double twistRadius = 0.0;  // mean distance of the points from the patch centre
   bool sliding = false;
-  bool warm = false;  // started with impulses from the previous step
-  int count = 0;
-  // Bounds for skipping a manifold that cannot push (solveNormal): the smallest separation at
-  // the step's start and the largest |r x n| of a point on each body. Next to the fields above,
-  // so that skipping reads one cache line.
-  double minSeparation = 0.0, reachA = 0.0, reachB = 0.0;
-  bool rowsReady = false;  // the basis, friction rows and patch solve are prepared (prepareRows)
-  bool anchored = true;    // whether the drift is pulled back (static friction)
-  bool block = false;      // the exact patch solve applies (3 or 4 points not near a line)
-  bool direct = false;     // its island's normals are solved directly (computeLevels)
+  bool warm = false;     // started with impulses from the previous step
+  bool anchored = true;  // whether the drift is pulled back (static friction)
+  bool block = false;    // the exact patch solve applies (3 or 4 points not near a line)
+  bool direct = false;   // its island's normals are solved directly (computeLevels)
   // Shock propagation moves only the body farther from the ground (which one is fixed for
   // the step): 0 both, 1 only a, 2 only b.
   uint8_t shockMoves = 0;
