@@ -72,7 +72,7 @@ Engine gripEngine() {
                                [](const std::string& scene, bool quick) {
                                  if (quick) return product({60, 240}, {1, 4}, {1});
                                  if (scene == "pile")
-                                   return product({10, 12, 15, 20, 30, 60, 120}, {1, 2, 3, 4}, {1});
+                                   return product(kPileRatesHz, {1, 2, 3, 4}, {1});
                                  return product({30, 60, 120, 240, 480}, {1, 2, 4, 8, 16}, {1, 4});
                                });
   e.hands = true;
@@ -87,7 +87,7 @@ Engine gripTwoThreadEngine() {
                             [](const std::string& scene, bool quick) {
                               if (scene != "pile") return std::vector<Settings>{};
                               if (quick) return product({60, 240}, {1, 4}, {1});
-                              return product({10, 12, 15, 20, 30, 60, 120}, {1, 2, 3, 4}, {1});
+                              return product(kPileRatesHz, {1, 2, 3, 4}, {1});
                             });
 }
 

@@ -89,6 +89,10 @@ Engine gripTwoThreadEngine();
 std::vector<Settings> product(const std::vector<double>& ratesHz, const std::vector<int>& substeps,
                               const std::vector<int>& iterations);
 
+// The step rates every engine's pile is swept at (Hz): one list, so that no engine's grid
+// reaches lower or higher than another's.
+inline const std::vector<double> kPileRatesHz = {10, 12, 15, 20, 30, 60, 120};
+
 // One sample: a scene at one setting. seconds: wall time of the steps alone per simulated
 // second (the fastest of the repeats). error2 is NaN for scenes with a single metric.
 struct Sample {

@@ -95,7 +95,7 @@ sweep::Engine bulletEngine() {
   return sweep::engineOf<BulletSim>(
       "bullet", {1.0 / 60.0, 1, 10}, [](const std::string& scene, bool quick) {
         if (quick) return sweep::product({60, 240}, {1}, {10});
-        if (scene == "pile") return sweep::product({10, 12, 15, 20, 30, 60, 120}, {1}, {5, 10, 20});
+        if (scene == "pile") return sweep::product(sweep::kPileRatesHz, {1}, {5, 10, 20});
         return sweep::product({30, 60, 120, 240, 480}, {1, 4}, {5, 10, 20, 50});
       });
 }

@@ -125,8 +125,7 @@ sweep::Engine odeEngine() {
       "ode", {1.0 / 60.0, 1, 20}, [](const std::string& scene, bool quick) {
         if (quick) return sweep::product({60, 240}, {1}, {20});
         // dWorldStep's direct solver is cubic in the rows of an island: not for the pile.
-        if (scene == "pile")
-          return sweep::product({10, 12, 15, 20, 30, 60, 120}, {1}, {10, 20, 40});
+        if (scene == "pile") return sweep::product(sweep::kPileRatesHz, {1}, {10, 20, 40});
         return sweep::product({30, 60, 120, 240, 480}, {1}, {0, 5, 10, 20, 50});
       });
 }

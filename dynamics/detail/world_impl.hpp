@@ -124,7 +124,7 @@ struct alignas(64) SolverManifold {
   double minSeparation = 0.0, reachA = 0.0, reachB = 0.0;
   int count = 0;
   bool rowsReady = false;  // the basis, friction rows and patch solve are prepared (prepareRows)
-  bool bouncy = false;     // restitution != 0
+  bool bouncy = false;     // restitution != 0 (restitution itself is in the next cache line)
 
   int source = 0;  // index into the contact manifold list
   double staticFriction = 0.0, dynamicFriction = 0.0, restitution = 0.0;
