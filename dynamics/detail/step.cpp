@@ -61,12 +61,12 @@ bool World::Impl::collide(double dt) {
   const uint32_t n = static_cast<uint32_t>(bodies.size());
   proxyBoxes.clear(), proxyActive.clear(), proxyBody.clear();
   for (uint32_t i = 0; i < n; ++i) {
-    Body& b = bodies[i];
+    const Body& b = bodies[i];
     if (!b.alive) continue;
     const bool active = b.awake && b.type != BodyType::Static;
     if (active) {
-      refreshBounds(b);
-      // Grow by the speculative distance and by the motion of this step.
+      // b.aabb is current: every pose change (createBody, setPose, the solver's write-back)
+      // refreshes it. Grow it by the speculative distance and by the motion of this step.
       Aabb box = b.aabb.inflated(def.speculativeDistance);
       const Vec3 travel = b.v * dt;
       box.min += travel.cwiseMin(Vec3::Zero());
