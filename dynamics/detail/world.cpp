@@ -81,7 +81,7 @@ void World::Impl::wakeBody(uint32_t slot) {
   Body& b = bodies[slot];
   if (b.type == BodyType::Static) return;
   if (b.awake) {
-    b.sleepTime = 0.0;
+    b.restartCalm();
     return;
   }
   // Wake the whole sleeping island the body belongs to.
@@ -90,7 +90,7 @@ void World::Impl::wakeBody(uint32_t slot) {
     if (!o.alive || o.awake) continue;
     if (&o == &b || (group != 0 && o.sleepGroup == group)) {
       o.awake = true;
-      o.sleepTime = 0.0;
+      o.restartCalm();
       o.sleepGroup = 0;
     }
   }
@@ -154,6 +154,7 @@ BodyId World::createBody(const BodyDef& d) {
     b.w = d.angularVelocity;
   }
   b.com = b.pose.apply(b.localCom);
+  b.restartCalm();
   impl_->refreshBounds(b);
 
   uint32_t slot;

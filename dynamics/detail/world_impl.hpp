@@ -37,6 +37,10 @@ struct Body {
   double linearDamping = 0.0, angularDamping = 0.0, gravityScale = 1.0;
   bool sensor = false, allowSleep = true, awake = true;
   double sleepTime = 0.0;
+  // Where the body was when its calm time began: a body that only trembles about a pose (the
+  // rest of a pile does) stays calm, as its mean velocity over the calm time is small.
+  Vec3 restCom = Vec3::Zero();
+  Quat restQ = Quat::Identity();
   uint32_t sleepGroup = 0;  // which sleeping island it belongs to (0: none)
   uint64_t userData = 0;
   std::string name;
@@ -44,6 +48,11 @@ struct Body {
   int solverIndex = 0;  // index into the step's solver bodies (0: the static body)
 
   bool isDynamic() const { return type == BodyType::Dynamic; }
+  // Its calm time starts again, from where it is now.
+  void restartCalm() {
+    sleepTime = 0.0;
+    restCom = com, restQ = pose.q;
+  }
   Mat3 invInertiaWorld() const {
     const Mat3 R = pose.q.toRotationMatrix();
     return R * invInertiaLocal * R.transpose();
@@ -257,6 +266,7 @@ struct World::Impl {
   BodyId idOf(uint32_t slot) const { return BodyId{slot, bodies[slot].generation}; }
   void wakeBody(uint32_t slot);
   void refreshBounds(detail::Body& b) const;
+  bool calm(const detail::Body& b, double dt) const;
 };
 
 }  // namespace grip

@@ -399,6 +399,35 @@ TEST(Sleep, RestingPileFallsAsleepAndWakesOnForce) {
   for (BodyId b : boxes) EXPECT_TRUE(w.isAwake(b));
 }
 
+// Sleep reads a body's mean velocity over its calm time (so a trembling body can sleep), at
+// half the sleep velocity: a body speeding up from rest stays awake exactly as long as its
+// speed alone would keep it awake. A box whose slope is 0.8 degrees steeper than its friction
+// cone (a = 0.15 m/s^2, past the 0.05 m/s sleep speed after 0.33 s) must not be frozen.
+TEST(Sleep, ABoxStartingToSlideSlowlyIsNotFrozen) {
+  const double mu = 0.5, accel = 0.15;
+  // Tilted gravity instead of a tilted floor: sin(t) - mu cos(t) = accel / g.
+  double theta = std::atan(mu);
+  for (int i = 0; i < 50; ++i)
+    theta -= (std::sin(theta) - mu * std::cos(theta) - accel / 9.81) /
+             (std::cos(theta) + mu * std::sin(theta));
+  ASSERT_GT(std::tan(theta), mu);  // past the static cone: it starts to slide
+  WorldDef def;
+  def.gravity = 9.81 * Vec3(std::sin(theta), -std::cos(theta), 0.0);
+  World w(def);
+  addGround(w, mu, mu);
+  BodyDef d;
+  d.shape = Shape::box(Vec3::Constant(0.05));
+  d.position = Vec3(0, 0.05, 0);
+  d.material.staticFriction = d.material.dynamicFriction = mu;
+  const BodyId box = w.createBody(d);
+  for (int i = 0; i < 180; ++i) {
+    w.step(1.0 / 60.0);
+    ASSERT_TRUE(w.isAwake(box)) << "frozen after " << (i + 1) / 60.0 << " s";
+  }
+  const double expected = 0.5 * accel * 3.0 * 3.0;
+  EXPECT_NEAR(w.pose(box).p.x(), expected, 0.05 * expected);
+}
+
 TEST(Events, ContactBeginsOnLandingAndEndsOnLift) {
   World w;
   const BodyId ground = addGround(w);
