@@ -6,7 +6,8 @@
 // Counters: ms_per_step (wall time per step), below (bodies whose centre went below the ground
 // at any step); for the stacks settle_mm (the top's movement in the first second) and drift_mm
 // (its largest movement from there over the next 10 s: issue 2's bar, as tests/dynamics
-// measures it). For medians, run with --benchmark_repetitions=5 (docs/performance.md).
+// measures it). For medians on a noisy host, run with --benchmark_repetitions=7
+// --benchmark_enable_random_interleaving=true (docs/performance.md).
 #include <benchmark/benchmark.h>
 
 #include <chrono>
