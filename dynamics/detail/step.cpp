@@ -269,9 +269,8 @@ bool World::Impl::calm(const Body& b, double dt) const {
   if (!(v < kTremble * def.sleepLinearVelocity && w < kTremble * def.sleepAngularVelocity))
     return false;
   const double t = b.sleepTime + dt;
-  const double turned = Eigen::AngleAxisd(b.pose.q * b.restQ.conjugate()).angle();
-  return (b.com - b.restCom).norm() < 0.5 * def.sleepLinearVelocity * t &&
-         turned < def.sleepAngularVelocity * t;
+  if (!((b.com - b.restCom).norm() < 0.5 * def.sleepLinearVelocity * t)) return false;
+  return Eigen::AngleAxisd(b.pose.q * b.restQ.conjugate()).angle() < def.sleepAngularVelocity * t;
 }
 
 void World::Impl::updateSleep(double dt) {

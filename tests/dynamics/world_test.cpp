@@ -406,11 +406,9 @@ TEST(Sleep, RestingPileFallsAsleepAndWakesOnForce) {
 // cone (a = 0.15 m/s^2, past the 0.05 m/s sleep speed after 0.33 s) must not be frozen.
 TEST(Sleep, ABoxStartingToSlideSlowlyIsNotFrozen) {
   const double mu = 0.5, accel = 0.15;
-  // Tilted gravity instead of a tilted floor: sin(t) - mu cos(t) = accel / g.
-  double theta = std::atan(mu);
-  for (int i = 0; i < 50; ++i)
-    theta -= (std::sin(theta) - mu * std::cos(theta) - accel / 9.81) /
-             (std::cos(theta) + mu * std::sin(theta));
+  // Tilted gravity instead of a tilted floor: sin(t) - mu cos(t) = accel / g, i.e.
+  // sqrt(1 + mu^2) sin(t - atan(mu)) = accel / g.
+  const double theta = std::atan(mu) + std::asin(accel / (9.81 * std::sqrt(1.0 + mu * mu)));
   ASSERT_GT(std::tan(theta), mu);  // past the static cone: it starts to slide
   WorldDef def;
   def.gravity = 9.81 * Vec3(std::sin(theta), -std::cos(theta), 0.0);
