@@ -75,6 +75,10 @@ struct WorldDef {
   double maxPushoutVelocity = 3.0;    // m/s, cap on the speed that resolves overlap
   double restitutionThreshold = 1.0;  // m/s, slower impacts do not bounce
   double speculativeDistance = 0.02;  // m, contacts made this far before touching
+  // A convex pair that moved less than this (B relative to A) since its manifold was computed
+  // carries the manifold along instead of running the narrowphase (Jolt's body pair cache).
+  double contactReuseDistance = 0.001;  // m; 0 always recomputes
+  double contactReuseAngle = 0.035;     // rad (2 degrees)
   double linearSlop = 0.005;    // m, overlap within which velocity contacts stay rigid (no push)
   double stickVelocity = 0.01;  // m/s, tangential speed below which a contact may stick again
   bool enableSleep = true;
@@ -114,6 +118,7 @@ struct StepStats {
   int awakeBodies = 0;
   int candidatePairs = 0;
   int manifolds = 0;
+  int reusedManifolds = 0;  // carried along from an earlier step without a narrowphase
   int contactPoints = 0;
   int islands = 0;
   int sleepingIslands = 0;
@@ -199,6 +204,9 @@ class World {
   int bodyCount() const;
   // Contact constraints the solver handled in the last step (points, and manifolds).
   int contactConstraintCount() const;
+  // The manifolds between two bodies in the last step, as the solver used them (one per
+  // child pair, speculative points included), normals pointing from a to b.
+  std::vector<Manifold> contactManifolds(BodyId a, BodyId b) const;
   const StepStats& stats() const;
   const WorldDef& def() const;
   void setGravity(const Vec3& g);

@@ -7,6 +7,7 @@
 //   finishStep    clear forces, advance time
 #include <algorithm>
 #include <numeric>
+#include <tuple>
 
 #include "dynamics/detail/world_impl.hpp"
 
@@ -49,6 +50,16 @@ detail::PointState matchPoint(const ContactManifold& old, const ContactPoint& p)
   return best >= 0 ? old.state[best] : detail::PointState{};
 }
 
+bool isPolytope(const Shape& s) {
+  return s.type() == ShapeType::Box || s.type() == ShapeType::ConvexHull;
+}
+
+// How fast the bodies close along the normal at the manifold's first point.
+double closingSpeed(const Body& A, const Body& B, const Manifold& m) {
+  const Vec3& x = m.points[0].position;
+  return -((B.v + B.w.cross(x - B.com)) - (A.v + A.w.cross(x - A.com))).dot(m.normal);
+}
+
 bool carriesOver(const std::vector<Body>& bodies, const ContactManifold& c) {
   // Contacts among sleeping and static bodies are not recomputed; keep them as they were.
   const Body &a = bodies[c.bodyA], &b = bodies[c.bodyB];
@@ -85,6 +96,7 @@ bool World::Impl::collide(double dt) {
   previousSensorPairs.swap(sensorPairs);
   sensorPairs.clear();
   stats.candidatePairs = static_cast<int>(pairs.size());
+  stats.reusedManifolds = 0;
 
   // Narrowphase and warm-start matching: pure functions of the poses, run in chunks of pairs
   // on the workers, each chunk into its own list. Waking (a side effect) follows, in pair order.
@@ -106,6 +118,7 @@ bool World::Impl::collide(double dt) {
           woke = true;
         }
       }
+      stats.reusedManifolds += c.reused;
       contacts.push_back(c);
     }
   }
@@ -126,6 +139,16 @@ bool World::Impl::collide(double dt) {
 void World::Impl::narrowphase(size_t begin, size_t end, double dt,
                               detail::NarrowphaseChunk& out) const {
   out.manifolds.clear(), out.sensorPairs.clear();
+  const double reuseHalfCos = std::cos(0.5 * def.contactReuseAngle);
+  // Last step's manifolds, walked along with the pairs (both are in key order) from this
+  // chunk's first pair on.
+  auto cursor = previous.begin();
+  if (begin < end) {
+    const uint64_t first =
+        (uint64_t(proxyBody[pairs[begin].first]) << 32) | proxyBody[pairs[begin].second];
+    cursor = std::lower_bound(previous.begin(), previous.end(), first,
+                              [](const ContactManifold& c, uint64_t k) { return c.pairKey() < k; });
+  }
   for (size_t pair = begin; pair < end; ++pair) {
     const uint32_t ia = proxyBody[pairs[pair].first], ib = proxyBody[pairs[pair].second];
     const Body &A = bodies[ia], &B = bodies[ib];
@@ -140,6 +163,16 @@ void World::Impl::narrowphase(size_t begin, size_t end, double dt,
       if (overlapping) out.sensorPairs.push_back({A.sensor ? ia : ib, A.sensor ? ib : ia});
       continue;
     }
+    // A convex pair with a box or hull (whose narrowphase costs more than this) that barely
+    // moved since its manifold was computed carries the manifold along.
+    const bool carriable = A.shape->isConvex() && B.shape->isConvex() &&
+                           (isPolytope(*A.shape) || isPolytope(*B.shape));
+    const Transform relative = carriable ? A.pose.inverse() * B.pose : Transform{};
+    const ContactManifold* last = carriable ? findPrevious(cursor, ia, ib, 0, 0) : nullptr;
+    if (last && last->reusable && closeTo(relative, last->computedAt, reuseHalfCos)) {
+      carryAlong(*last, A, B, out.manifolds.emplace_back(*last));
+      continue;
+    }
     // Speculative margin: the contact is made early enough to stop this step's approach.
     const double approach = (A.v.norm() + B.v.norm()) * dt;
     const double margin = def.speculativeDistance + std::min(approach, 1.0);
@@ -150,27 +183,75 @@ void World::Impl::narrowphase(size_t begin, size_t end, double dt,
       ContactManifold& c = out.manifolds.emplace_back();
       c.bodyA = ia, c.bodyB = ib, c.m = m;
       // Carry warm-start impulses over from last step by matching feature ids.
-      auto it = std::lower_bound(
-          previous.begin(), previous.end(), c,
-          [](const ContactManifold& x, const ContactManifold& y) { return x.keyLess(y); });
-      const bool found = it != previous.end() && !c.keyLess(*it) && !it->keyLess(c);
+      auto from = cursor;
+      const ContactManifold* old =
+          carriable ? last : findPrevious(from, ia, ib, m.childA, m.childB);
       for (int k = 0; k < m.pointCount; ++k) {
         c.touching |= m.points[k].separation < kTouching;
-        if (found) c.state[k] = matchPoint(*it, m.points[k]);
+        if (old) c.state[k] = matchPoint(*old, m.points[k]);
         c.state[k].featureId = m.points[k].featureId;
       }
-      if (found) {
-        for (int r = 0; r < 3; ++r) c.friction[r] = it->friction[r];
-        c.sliding = it->sliding;
-        c.anchored = it->anchored, c.anchorA = it->anchorA, c.anchorB = it->anchorB;
+      if (old) {
+        for (int r = 0; r < 3; ++r) c.friction[r] = old->friction[r];
+        c.sliding = old->sliding;
+        c.anchored = old->anchored, c.anchorA = old->anchorA, c.anchorB = old->anchorB;
       }
       // Speculative contacts slow bodies before they touch: remember how fast they closed.
-      const Vec3& x = m.points[0].position;
-      const double closing =
-          -((B.v + B.w.cross(x - B.com)) - (A.v + A.w.cross(x - A.com))).dot(m.normal);
-      c.approachSpeed = std::max(closing, found && !it->touching ? it->approachSpeed : 0.0);
+      c.approachSpeed =
+          std::max(closingSpeed(A, B, m), old && !old->touching ? old->approachSpeed : 0.0);
+      if (carriable) remember(relative, A, B, c);
     }
   }
+}
+
+// Last step's manifold of a pair of bodies and children, or null. `from` moves forward to the
+// first manifold not before the key, so a walk over keys in order is one pass over previous.
+const ContactManifold* World::Impl::findPrevious(ManifoldIterator& from, uint32_t ia, uint32_t ib,
+                                                 uint32_t childA, uint32_t childB) const {
+  const auto key = std::make_tuple(ia, ib, childA, childB);
+  auto keyOf = [](const ContactManifold& c) {
+    return std::make_tuple(c.bodyA, c.bodyB, c.m.childA, c.m.childB);
+  };
+  while (from != previous.end() && keyOf(*from) < key) ++from;
+  return from != previous.end() && keyOf(*from) == key ? &*from : nullptr;
+}
+
+// Whether B's pose relative to A is within the reuse thresholds of where it was.
+bool World::Impl::closeTo(const Transform& relative, const Transform& was, double halfCos) const {
+  const double d = def.contactReuseDistance;
+  return (relative.p - was.p).squaredNorm() <= d * d && std::abs(relative.q.dot(was.q)) >= halfCos;
+}
+
+// The points of a fresh convex manifold as fixed on each body, for carryAlong.
+void World::Impl::remember(const Transform& relative, const Body& A, const Body& B,
+                           ContactManifold& c) const {
+  c.reusable = def.contactReuseDistance > 0.0;
+  c.computedAt = relative;
+  const Mat3 RA = A.pose.q.toRotationMatrix(), RB = B.pose.q.toRotationMatrix();
+  c.localNormal = RA.transpose() * c.m.normal;
+  for (int k = 0; k < c.m.pointCount; ++k) {
+    const Vec3 half = (0.5 * c.m.points[k].separation) * c.m.normal;
+    c.onA[k] = RA.transpose() * (c.m.points[k].position - half - A.pose.p);
+    c.onB[k] = RB.transpose() * (c.m.points[k].position + half - B.pose.p);
+  }
+}
+
+// A copy of the last manifold moved with the bodies: its points stay fixed on them, so the
+// normal and the separations follow the motion (exactly for the points it has; a point that a
+// new narrowphase would add or drop waits until the pair leaves the thresholds).
+void World::Impl::carryAlong(const ContactManifold& last, const Body& A, const Body& B,
+                             ContactManifold& c) const {
+  const Mat3 RA = A.pose.q.toRotationMatrix(), RB = B.pose.q.toRotationMatrix();
+  c.m.normal = RA * c.localNormal;
+  c.touching = false;
+  c.reused = true;
+  for (int k = 0; k < c.m.pointCount; ++k) {
+    const Vec3 a = RA * c.onA[k] + A.pose.p, b = RB * c.onB[k] + B.pose.p;
+    c.m.points[k].position = 0.5 * (a + b);
+    c.m.points[k].separation = (b - a).dot(c.m.normal);
+    c.touching |= c.m.points[k].separation < kTouching;
+  }
+  c.approachSpeed = std::max(closingSpeed(A, B, c.m), last.touching ? 0.0 : last.approachSpeed);
 }
 
 void World::Impl::inChunks(size_t count, size_t perChunk,

@@ -28,6 +28,8 @@ void validateWorldDef(const WorldDef& d) {
   requirePositive(d.maxPushoutVelocity, "WorldDef.maxPushoutVelocity");
   requireNonNegative(d.restitutionThreshold, "WorldDef.restitutionThreshold");
   requireNonNegative(d.speculativeDistance, "WorldDef.speculativeDistance");
+  requireNonNegative(d.contactReuseDistance, "WorldDef.contactReuseDistance");
+  requireNonNegative(d.contactReuseAngle, "WorldDef.contactReuseAngle");
   requireNonNegative(d.linearSlop, "WorldDef.linearSlop");
   requireNonNegative(d.stickVelocity, "WorldDef.stickVelocity");
   requireNonNegative(d.sleepLinearVelocity, "WorldDef.sleepLinearVelocity");
@@ -562,6 +564,23 @@ int World::bodyCount() const {
 }
 int World::contactConstraintCount() const {
   return impl_->constraintCount;
+}
+std::vector<Manifold> World::contactManifolds(BodyId a, BodyId b) const {
+  impl_->body(a, "contactManifolds.a");
+  impl_->body(b, "contactManifolds.b");
+  const bool flip = a.index > b.index;
+  const uint64_t key =
+      flip ? (uint64_t(b.index) << 32) | a.index : (uint64_t(a.index) << 32) | b.index;
+  std::vector<Manifold> out;
+  const auto& list = impl_->contacts;  // in key order
+  auto it = std::lower_bound(
+      list.begin(), list.end(), key,
+      [](const detail::ContactManifold& c, uint64_t k) { return c.pairKey() < k; });
+  for (; it != list.end() && it->pairKey() == key; ++it) {
+    Manifold& m = out.emplace_back(it->m);
+    if (flip) m.normal = -m.normal, std::swap(m.childA, m.childB);
+  }
+  return out;
 }
 const StepStats& World::stats() const {
   return impl_->stats;

@@ -97,6 +97,18 @@ TEST(BadInput, ZeroOrNegativeMassesAndSizes) {
   WorldDef wd;
   wd.substeps = 0;
   EXPECT_THROW({ World w(wd); }, Error);
+  for (const char* field : {"contactReuseDistance", "contactReuseAngle"}) {
+    WorldDef t;
+    (std::string(field) == "contactReuseAngle" ? t.contactReuseAngle : t.contactReuseDistance) =
+        -1e-3;
+    try {
+      World w(t);
+      ADD_FAILURE() << field << " -1e-3 was accepted";
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find(std::string("WorldDef.") + field), std::string::npos)
+          << e.what();
+    }
+  }
   for (int threads : {0, -1, 65}) {
     WorldDef t;
     t.workerThreads = threads;
@@ -122,6 +134,8 @@ TEST(BadInput, UnknownAndStaleIds) {
   EXPECT_FALSE(f.w.isValid(temp));
   expectRejected(f, "setLinearVelocity.id", [&] { f.w.setLinearVelocity(temp, Vec3::Zero()); });
   expectRejected(f, "destroyBody.id", [&] { f.w.destroyBody(temp); });
+  expectRejected(f, "contactManifolds.b",
+                 [&] { (void)f.w.contactManifolds(f.w.bodies()[0], temp); });
   // The slot is reused with a new generation: the old id stays stale.
   const BodyId again = f.w.createBody(d);
   EXPECT_EQ(again.index, temp.index);

@@ -327,6 +327,158 @@ TEST(Stack, TwentyBoxesStandWithFourRelaxIterations) {
   EXPECT_LT(r.drift, 1e-3) << "top drifted " << r.drift * 1e3 << " mm";
 }
 
+namespace {
+// A cube resting on a static box floor (a box-box pair, whose manifold may be carried along).
+struct CubeOnFloor {
+  World w;
+  BodyId cube;
+  explicit CubeOnFloor(const WorldDef& def = WorldDef{}) : w(def) {
+    BodyDef floor;
+    floor.type = BodyType::Static;
+    floor.shape = Shape::box(Vec3(1.0, 0.5, 1.0));
+    floor.position = Vec3(0, -0.5, 0);
+    w.createBody(floor);
+    BodyDef d;
+    d.shape = Shape::box(Vec3::Constant(0.05));
+    d.position = Vec3(0, 0.05, 0);
+    d.allowSleep = false;
+    cube = w.createBody(d);
+  }
+};
+}  // namespace
+
+// A pair that moved less than contactReuseDistance and contactReuseAngle (B relative to A)
+// since its manifold was computed keeps that manifold, carried with the bodies; past either
+// threshold the narrowphase runs again.
+TEST(ContactReuse, ARestingCubeCarriesItsManifoldUntilItMovesPastTheThresholds) {
+  CubeOnFloor s;
+  World& w = s.w;
+  w.step(1.0 / 60.0);
+  EXPECT_EQ(w.stats().reusedManifolds, 0);  // the first step has nothing to carry
+  for (int i = 0; i < 30; ++i) w.step(1.0 / 60.0);
+  EXPECT_EQ(w.stats().manifolds, 1);
+  EXPECT_EQ(w.stats().reusedManifolds, 1);
+  // Moves relative to where the manifold was computed: 0.6 mm is within 1 mm, 0.6 + 0.6 is
+  // not (the reference stays where the narrowphase last ran).
+  auto nudge = [&](const Vec3& by, double yawDeg) {
+    const Transform p = w.pose(s.cube);
+    w.setPose(s.cube, p.p + by, Quat(Eigen::AngleAxisd(yawDeg * kPi / 180.0, Vec3::UnitY())) * p.q);
+    w.setLinearVelocity(s.cube, Vec3::Zero());
+    w.setAngularVelocity(s.cube, Vec3::Zero());
+    w.step(1.0 / 60.0);
+    return w.stats().reusedManifolds;
+  };
+  EXPECT_EQ(nudge(Vec3(0.0006, 0, 0), 0.0), 1);
+  EXPECT_EQ(nudge(Vec3(0.0006, 0, 0), 0.0), 0);
+  EXPECT_EQ(nudge(Vec3::Zero(), 1.5), 1);  // contactReuseAngle is 2 degrees
+  EXPECT_EQ(nudge(Vec3::Zero(), 1.5), 0);
+  EXPECT_EQ(nudge(Vec3::Zero(), 0.0), 1);
+}
+
+// A carried manifold is the one the narrowphase would compute: the cube's corners are fixed
+// on it and the floor's face on the floor, so tilting the cube 1 degree and shifting it 0.5 mm
+// (within the thresholds) changes the separations exactly as a fresh narrowphase does. A
+// point's position is the midpoint of its two body-fixed ends, so it lags half the pair's slip
+// since the narrowphase ran (here 1.3 mm at the corners; Jolt's pair cache does the same).
+TEST(ContactReuse, ACarriedManifoldMatchesAFreshOne) {
+  WorldDef fresh;
+  fresh.contactReuseDistance = 0.0;
+  CubeOnFloor a, b(fresh);
+  const Quat tilt(Eigen::AngleAxisd(1.0 * kPi / 180.0, Vec3(1, 0, 1).normalized()));
+  std::vector<Manifold> ma, mb;
+  for (CubeOnFloor* s : {&a, &b}) {
+    for (int i = 0; i < 30; ++i) s->w.step(1.0 / 60.0);
+    s->w.setPose(s->cube, Vec3(0.0005, 0.0502, -0.0001), tilt);
+    s->w.step(1.0 / 60.0);
+    (s == &a ? ma : mb) = s->w.contactManifolds(s->w.bodies()[0], s->cube);
+  }
+  EXPECT_EQ(a.w.stats().reusedManifolds, 1);
+  EXPECT_EQ(b.w.stats().reusedManifolds, 0);
+  ASSERT_EQ(ma.size(), 1u);
+  ASSERT_EQ(mb.size(), 1u);
+  ASSERT_EQ(ma[0].pointCount, 4);
+  ASSERT_EQ(mb[0].pointCount, 4);
+  EXPECT_LT((ma[0].normal - mb[0].normal).norm(), 1e-9);
+  double spread = 0.0;
+  for (const ContactPoint& p : ma[0].points) {
+    const ContactPoint* match = nullptr;  // the fresh point at the same corner
+    for (const ContactPoint& q : mb[0].points)
+      if ((q.position - p.position).norm() < 1e-3) match = &q;
+    ASSERT_NE(match, nullptr) << "no fresh point near " << p.position.transpose();
+    EXPECT_LT((p.position - match->position).norm(), 0.7e-3);
+    EXPECT_NEAR(p.separation, match->separation, 1e-9);
+    spread = std::max(spread, std::abs(p.separation - ma[0].points[0].separation));
+  }
+  EXPECT_GT(spread, 1e-3);  // the tilt did change the corners' separations
+}
+
+// A pair moved as one keeps its relative pose, so its manifold is carried however far it
+// goes, and must then turn and move with it exactly: two stacked cubes lifted 1 m and turned
+// 30 degrees together.
+TEST(ContactReuse, APairMovedAsOneCarriesItsManifoldExactly) {
+  WorldDef fresh;
+  fresh.contactReuseDistance = 0.0;
+  CubeOnFloor a, b(fresh);
+  std::vector<Manifold> ma, mb;
+  for (CubeOnFloor* s : {&a, &b}) {
+    BodyDef d;
+    d.shape = Shape::box(Vec3::Constant(0.05));
+    d.position = Vec3(0.01, 0.15, 0);
+    d.allowSleep = false;
+    const BodyId top = s->w.createBody(d);
+    for (int i = 0; i < 30; ++i) s->w.step(1.0 / 60.0);
+    const Transform turn{Vec3(0, 1, 0),
+                         Quat(Eigen::AngleAxisd(kPi / 6, Vec3(1, 2, 3).normalized()))};
+    for (BodyId id : {s->cube, top}) {
+      const Transform moved = turn * s->w.pose(id);
+      s->w.setPose(id, moved.p, moved.q);
+    }
+    s->w.step(1.0 / 60.0);
+    (s == &a ? ma : mb) = s->w.contactManifolds(s->cube, top);
+  }
+  EXPECT_EQ(a.w.stats().reusedManifolds, 1);
+  ASSERT_EQ(ma.size(), 1u);
+  ASSERT_EQ(mb.size(), 1u);
+  ASSERT_EQ(ma[0].pointCount, mb[0].pointCount);
+  EXPECT_LT((ma[0].normal - mb[0].normal).norm(), 1e-9);
+  for (int k = 0; k < ma[0].pointCount; ++k) {
+    const ContactPoint& p = ma[0].points[k];
+    double best = 1.0;
+    for (int j = 0; j < mb[0].pointCount; ++j)
+      best = std::min(best, (p.position - mb[0].points[j].position).norm());
+    EXPECT_LT(best, 1e-9) << "carried point " << p.position.transpose();
+  }
+}
+
+// Carrying a manifold along must not change the physics beyond its thresholds: a cube set on
+// one edge, tipped 20 degrees, falls back onto its face (sliding 28 mm) and settles where a
+// world that recomputes every manifold puts it.
+TEST(ContactReuse, ATippedCubeSettlesWhereFreshManifoldsPutIt) {
+  WorldDef fresh;
+  fresh.contactReuseDistance = 0.0;
+  CubeOnFloor a, b(fresh);
+  const double tip = 20.0 * kPi / 180.0;
+  int carried = 0;
+  for (CubeOnFloor* s : {&a, &b}) {
+    s->w.setPose(s->cube, Vec3(0, 0.05 * (std::cos(tip) + std::sin(tip)), 0),
+                 Quat(Eigen::AngleAxisd(tip, Vec3::UnitZ())));
+    for (int i = 0; i < 120; ++i) {
+      s->w.step(1.0 / 60.0);
+      if (s == &a)
+        carried += s->w.stats().reusedManifolds;
+      else
+        EXPECT_EQ(s->w.stats().reusedManifolds, 0);
+    }
+  }
+  EXPECT_GT(carried, 60);
+  const Transform pa = a.w.pose(a.cube), pb = b.w.pose(b.cube);
+  EXPECT_GT(std::abs(pb.p.x()), 0.02);  // it did fall back and slide
+  EXPECT_NEAR(pa.p.y(), 0.05, 1e-4);
+  EXPECT_LT((pa.p - pb.p).norm(), 1e-4)
+      << "carried " << pa.p.transpose() << ", fresh " << pb.p.transpose();
+  EXPECT_LT(pa.q.angularDistance(pb.q), 1e-3);
+}
+
 TEST(Pile, ThousandBoxesNeverBelowTheGround) {
   World w;
   addGround(w);
