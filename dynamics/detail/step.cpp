@@ -168,8 +168,8 @@ void World::Impl::narrowphase(size_t begin, size_t end, double dt,
     const bool carriable = A.shape->isConvex() && B.shape->isConvex() &&
                            (isPolytope(*A.shape) || isPolytope(*B.shape));
     const Transform relative = carriable ? A.pose.inverse() * B.pose : Transform{};
-    const ContactManifold* last = carriable ? findPrevious(cursor, ia, ib, 0, 0) : nullptr;
-    if (last && last->reusable && closeTo(relative, last->computedAt, reuseHalfCos)) {
+    const ContactManifold* last = findPrevious(cursor, ia, ib, 0, 0);  // cursor at the pair
+    if (carriable && last && last->reusable && closeTo(relative, last->computedAt, reuseHalfCos)) {
       carryAlong(*last, A, B, out.manifolds.emplace_back(*last));
       continue;
     }
