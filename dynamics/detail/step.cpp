@@ -168,14 +168,19 @@ void World::Impl::narrowphase(size_t begin, size_t end, double dt,
     const bool carriable = A.shape->isConvex() && B.shape->isConvex() &&
                            (isPolytope(*A.shape) || isPolytope(*B.shape));
     const Transform relative = carriable ? A.pose.inverse() * B.pose : Transform{};
-    const ContactManifold* last = findPrevious(cursor, ia, ib, 0, 0);  // cursor at the pair
-    if (carriable && last && last->reusable && closeTo(relative, last->computedAt, reuseHalfCos)) {
-      carryAlong(*last, A, B, out.manifolds.emplace_back(*last));
-      continue;
-    }
     // Speculative margin: the contact is made early enough to stop this step's approach.
     const double approach = (A.v.norm() + B.v.norm()) * dt;
     const double margin = def.speculativeDistance + std::min(approach, 1.0);
+    // Not when the margin has grown by half the speculative distance or more: a point it left
+    // out could then close this step (it was farther than the old margin, less the pair's
+    // motion since, a few mm at the thresholds).
+    const ContactManifold* last = findPrevious(cursor, ia, ib, 0, 0);  // cursor at the pair
+    if (carriable && last && last->reusable &&
+        margin < last->margin + 0.5 * def.speculativeDistance &&
+        closeTo(relative, last->computedAt, reuseHalfCos)) {
+      carryAlong(*last, A, B, out.manifolds.emplace_back(*last));
+      continue;
+    }
     out.scratch.clear();
     grip::collide(*A.shape, A.pose, *B.shape, B.pose, margin, out.scratch);
     for (const Manifold& m : out.scratch) {
@@ -199,7 +204,7 @@ void World::Impl::narrowphase(size_t begin, size_t end, double dt,
       // Speculative contacts slow bodies before they touch: remember how fast they closed.
       c.approachSpeed =
           std::max(closingSpeed(A, B, m), old && !old->touching ? old->approachSpeed : 0.0);
-      if (carriable) remember(relative, A, B, c);
+      if (carriable) remember(relative, margin, A, B, c);
     }
   }
 }
@@ -223,10 +228,11 @@ bool World::Impl::closeTo(const Transform& relative, const Transform& was, doubl
 }
 
 // The points of a fresh convex manifold as fixed on each body, for carryAlong.
-void World::Impl::remember(const Transform& relative, const Body& A, const Body& B,
-                           ContactManifold& c) const {
+void World::Impl::remember(const Transform& relative, double margin, const Body& A,
+                           const Body& B, ContactManifold& c) const {
   c.reusable = def.contactReuseDistance > 0.0;
   c.computedAt = relative;
+  c.margin = margin;
   const Mat3 RA = A.pose.q.toRotationMatrix(), RB = B.pose.q.toRotationMatrix();
   c.localNormal = RA.transpose() * c.m.normal;
   for (int k = 0; k < c.m.pointCount; ++k) {

@@ -79,12 +79,13 @@ struct ContactManifold {
   bool anchored = false;
   Vec3 anchorA = Vec3::Zero(), anchorB = Vec3::Zero();
   double approachSpeed = 0.0;  // fastest normal closing speed seen before it touched
-  // Where the narrowphase last ran for this pair of convex shapes: B's pose in A's frame, the
-  // normal in A's frame and each point as fixed on either body. While the pair moves less than
+  // Where the narrowphase last ran for this pair of convex shapes: B's pose in A's frame, its
+  // margin, the normal in A's frame and each point as fixed on either body. While the pair moves less than
   // the reuse thresholds from there, the manifold is carried along instead of recomputed.
   bool reusable = false;
   bool reused = false;  // this step's manifold was carried along
   Transform computedAt;
+  double margin = 0.0;  // the speculative margin it was computed with
   Vec3 localNormal = Vec3::UnitY();
   Vec3 onA[4], onB[4];
 
@@ -252,8 +253,8 @@ struct World::Impl {
   const detail::ContactManifold* findPrevious(ManifoldIterator& from, uint32_t ia, uint32_t ib,
                                               uint32_t childA, uint32_t childB) const;
   bool closeTo(const Transform& relative, const Transform& was, double halfCos) const;
-  void remember(const Transform& relative, const detail::Body& A, const detail::Body& B,
-                detail::ContactManifold& c) const;
+  void remember(const Transform& relative, double margin, const detail::Body& A,
+                const detail::Body& B, detail::ContactManifold& c) const;
   void carryAlong(const detail::ContactManifold& last, const detail::Body& A, const detail::Body& B,
                   detail::ContactManifold& c) const;
   void narrowphase(size_t beginPair, size_t endPair, double dt,

@@ -83,6 +83,7 @@ TEST(SceneParse, ErrorsNameTheJsonPath) {
       {"world.substeps", "0", "world.substeps: must be between 1 and 1000"},
       {"world.substeps", "2.5", "world.substeps: must be an integer"},
       {"world.dt", "0.01", "world.dt: give either hz or dt"},
+      {"world.contactReuseDistance", "-0.001", "world.contactReuseDistance: must not be negative"},
       {"interaction.method", "\"magic\"", "interaction.method: must be one of coulomb, kinematic"},
       {"hands[0].keyframes[1].time", "0", "hands[0].keyframes[1].time: must be later"},
       {"hands[0].keyframes[0].pose", "\"fist\"", "hands[0].keyframes[0].pose: must be one of open"},

@@ -29,7 +29,7 @@ const std::map<std::string, std::string> kGolden = {
     {"stack20", "7d9d41fbf05ddaa3"},
     {"ball_into_stack", "6c848838085d2507"},
     {"incline", "2c7951436fbbc7df"},
-    {"mixed", "c4ba194a7eb18497"},
+    {"mixed", "3f743f2c1a78935e"},
 };
 // clang-format on
 

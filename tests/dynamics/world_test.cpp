@@ -373,6 +373,11 @@ TEST(ContactReuse, ARestingCubeCarriesItsManifoldUntilItMovesPastTheThresholds) 
   EXPECT_EQ(nudge(Vec3::Zero(), 1.5), 1);  // contactReuseAngle is 2 degrees
   EXPECT_EQ(nudge(Vec3::Zero(), 1.5), 0);
   EXPECT_EQ(nudge(Vec3::Zero(), 0.0), 1);
+  // Set moving fast, the pair needs a wider speculative margin than its manifold was made
+  // with (here by 1 m/s x 1/60 s, more than half the 2 cm speculative distance): recomputed.
+  w.setLinearVelocity(s.cube, Vec3(0, 0, 1.0));
+  w.step(1.0 / 60.0);
+  EXPECT_EQ(w.stats().reusedManifolds, 0);
 }
 
 // A carried manifold is the one the narrowphase would compute: the cube's corners are fixed

@@ -138,7 +138,7 @@ const json& required(const json& obj, const std::string& path, const char* k) {
 void parseWorld(const json& j, const std::string& path, Scene& s) {
   object(j, path,
          {"gravity", "hz", "dt", "substeps", "iterations", "positionIterations", "sleep",
-          "contactHertz"});
+          "contactHertz", "contactReuseDistance"});
   opt(j, path, "gravity",
       [&](const json& v, const std::string& p) { s.world.gravity = vec3(v, p); });
   if (j.contains("hz") && j.contains("dt")) fail(key(path, "dt"), "give either hz or dt, not both");
@@ -163,6 +163,9 @@ void parseWorld(const json& j, const std::string& path, Scene& s) {
       [&](const json& v, const std::string& p) { s.world.enableSleep = boolean(v, p); });
   opt(j, path, "contactHertz",
       [&](const json& v, const std::string& p) { s.world.contactHertz = positive(v, p); });
+  opt(j, path, "contactReuseDistance", [&](const json& v, const std::string& p) {
+    s.world.contactReuseDistance = nonNegative(v, p);
+  });
 }
 
 MaterialDef parseMaterial(const json& j, const std::string& path, MaterialDef m) {
