@@ -228,8 +228,8 @@ bool World::Impl::closeTo(const Transform& relative, const Transform& was, doubl
 }
 
 // The points of a fresh convex manifold as fixed on each body, for carryAlong.
-void World::Impl::remember(const Transform& relative, double margin, const Body& A,
-                           const Body& B, ContactManifold& c) const {
+void World::Impl::remember(const Transform& relative, double margin, const Body& A, const Body& B,
+                           ContactManifold& c) const {
   c.reusable = def.contactReuseDistance > 0.0;
   c.computedAt = relative;
   c.margin = margin;

@@ -80,8 +80,8 @@ struct ContactManifold {
   Vec3 anchorA = Vec3::Zero(), anchorB = Vec3::Zero();
   double approachSpeed = 0.0;  // fastest normal closing speed seen before it touched
   // Where the narrowphase last ran for this pair of convex shapes: B's pose in A's frame, its
-  // margin, the normal in A's frame and each point as fixed on either body. While the pair moves less than
-  // the reuse thresholds from there, the manifold is carried along instead of recomputed.
+  // margin, the normal in A's frame and each point as fixed on either body. While the pair moves
+  // less than the reuse thresholds from there, the manifold is carried along instead of recomputed.
   bool reusable = false;
   bool reused = false;  // this step's manifold was carried along
   Transform computedAt;

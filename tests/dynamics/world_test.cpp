@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "collision/narrowphase.hpp"
 #include "dynamics/scenes.hpp"
 #include "dynamics/world.hpp"
 
@@ -380,39 +381,55 @@ TEST(ContactReuse, ARestingCubeCarriesItsManifoldUntilItMovesPastTheThresholds) 
   EXPECT_EQ(w.stats().reusedManifolds, 0);
 }
 
+namespace {
+// What the narrowphase makes of two bodies at given poses (margin: the speculative distance).
+Manifold freshManifold(const World& w, BodyId a, BodyId b, const Transform& pa,
+                       const Transform& pb) {
+  std::vector<Manifold> out;
+  collide(w.shape(a), pa, w.shape(b), pb, w.def().speculativeDistance, out);
+  EXPECT_EQ(out.size(), 1u);
+  return out.empty() ? Manifold{} : out[0];
+}
+
+// Moves bodies and stops them (so the step's margin is the speculative distance).
+void place(World& w, BodyId id, const Transform& t) {
+  w.setPose(id, t.p, t.q);
+  w.setLinearVelocity(id, Vec3::Zero());
+  w.setAngularVelocity(id, Vec3::Zero());
+}
+}  // namespace
+
 // A carried manifold is the one the narrowphase would compute: the cube's corners are fixed
 // on it and the floor's face on the floor, so tilting the cube 1 degree and shifting it 0.5 mm
 // (within the thresholds) changes the separations exactly as a fresh narrowphase does. A
 // point's position is the midpoint of its two body-fixed ends, so it lags half the pair's slip
 // since the narrowphase ran (here 1.3 mm at the corners; Jolt's pair cache does the same).
 TEST(ContactReuse, ACarriedManifoldMatchesAFreshOne) {
-  WorldDef fresh;
-  fresh.contactReuseDistance = 0.0;
-  CubeOnFloor a, b(fresh);
-  const Quat tilt(Eigen::AngleAxisd(1.0 * kPi / 180.0, Vec3(1, 0, 1).normalized()));
-  std::vector<Manifold> ma, mb;
-  for (CubeOnFloor* s : {&a, &b}) {
-    for (int i = 0; i < 30; ++i) s->w.step(1.0 / 60.0);
-    s->w.setPose(s->cube, Vec3(0.0005, 0.0502, -0.0001), tilt);
-    s->w.step(1.0 / 60.0);
-    (s == &a ? ma : mb) = s->w.contactManifolds(s->w.bodies()[0], s->cube);
-  }
-  EXPECT_EQ(a.w.stats().reusedManifolds, 1);
-  EXPECT_EQ(b.w.stats().reusedManifolds, 0);
-  ASSERT_EQ(ma.size(), 1u);
-  ASSERT_EQ(mb.size(), 1u);
-  ASSERT_EQ(ma[0].pointCount, 4);
-  ASSERT_EQ(mb[0].pointCount, 4);
-  EXPECT_LT((ma[0].normal - mb[0].normal).norm(), 1e-9);
+  CubeOnFloor s;
+  World& w = s.w;
+  const BodyId floor = w.bodies()[0];
+  for (int i = 0; i < 30; ++i) w.step(1.0 / 60.0);
+  const Transform moved{Vec3(0.0005, 0.0502, -0.0001),
+                        Quat(Eigen::AngleAxisd(1.0 * kPi / 180.0, Vec3(1, 0, 1).normalized()))};
+  place(w, s.cube, moved);
+  const Manifold fresh = freshManifold(w, floor, s.cube, w.pose(floor), moved);
+  w.step(1.0 / 60.0);  // the step collides at the poses it starts from
+  ASSERT_EQ(w.stats().reusedManifolds, 1);
+  const std::vector<Manifold> carried = w.contactManifolds(floor, s.cube);
+  ASSERT_EQ(carried.size(), 1u);
+  const Manifold& m = carried[0];
+  ASSERT_EQ(m.pointCount, 4);
+  ASSERT_EQ(fresh.pointCount, 4);
+  EXPECT_LT((m.normal - fresh.normal).norm(), 1e-9);
   double spread = 0.0;
-  for (const ContactPoint& p : ma[0].points) {
+  for (const ContactPoint& p : m.points) {
     const ContactPoint* match = nullptr;  // the fresh point at the same corner
-    for (const ContactPoint& q : mb[0].points)
+    for (const ContactPoint& q : fresh.points)
       if ((q.position - p.position).norm() < 1e-3) match = &q;
     ASSERT_NE(match, nullptr) << "no fresh point near " << p.position.transpose();
     EXPECT_LT((p.position - match->position).norm(), 0.7e-3);
     EXPECT_NEAR(p.separation, match->separation, 1e-9);
-    spread = std::max(spread, std::abs(p.separation - ma[0].points[0].separation));
+    spread = std::max(spread, std::abs(p.separation - m.points[0].separation));
   }
   EXPECT_GT(spread, 1e-3);  // the tilt did change the corners' separations
 }
@@ -421,37 +438,34 @@ TEST(ContactReuse, ACarriedManifoldMatchesAFreshOne) {
 // goes, and must then turn and move with it exactly: two stacked cubes lifted 1 m and turned
 // 30 degrees together.
 TEST(ContactReuse, APairMovedAsOneCarriesItsManifoldExactly) {
-  WorldDef fresh;
-  fresh.contactReuseDistance = 0.0;
-  CubeOnFloor a, b(fresh);
-  std::vector<Manifold> ma, mb;
-  for (CubeOnFloor* s : {&a, &b}) {
-    BodyDef d;
-    d.shape = Shape::box(Vec3::Constant(0.05));
-    d.position = Vec3(0.01, 0.15, 0);
-    d.allowSleep = false;
-    const BodyId top = s->w.createBody(d);
-    for (int i = 0; i < 30; ++i) s->w.step(1.0 / 60.0);
-    const Transform turn{Vec3(0, 1, 0),
-                         Quat(Eigen::AngleAxisd(kPi / 6, Vec3(1, 2, 3).normalized()))};
-    for (BodyId id : {s->cube, top}) {
-      const Transform moved = turn * s->w.pose(id);
-      s->w.setPose(id, moved.p, moved.q);
+  CubeOnFloor s;
+  World& w = s.w;
+  BodyDef d;
+  d.shape = Shape::box(Vec3::Constant(0.05));
+  d.position = Vec3(0.01, 0.15, 0);
+  d.allowSleep = false;
+  const BodyId top = w.createBody(d);
+  for (int i = 0; i < 30; ++i) w.step(1.0 / 60.0);
+  const Transform turn{Vec3(0, 1, 0), Quat(Eigen::AngleAxisd(kPi / 6, Vec3(1, 2, 3).normalized()))};
+  const Transform low = turn * w.pose(s.cube), high = turn * w.pose(top);
+  place(w, s.cube, low);
+  place(w, top, high);
+  const Manifold fresh = freshManifold(w, s.cube, top, low, high);
+  w.step(1.0 / 60.0);
+  ASSERT_EQ(w.stats().reusedManifolds, 1);
+  const std::vector<Manifold> carried = w.contactManifolds(s.cube, top);
+  ASSERT_EQ(carried.size(), 1u);
+  const Manifold& m = carried[0];
+  ASSERT_EQ(m.pointCount, fresh.pointCount);
+  EXPECT_LT((m.normal - fresh.normal).norm(), 1e-9);
+  for (int k = 0; k < m.pointCount; ++k) {
+    double best = 1.0, separation = 0.0;
+    for (int j = 0; j < fresh.pointCount; ++j) {
+      const double d2 = (m.points[k].position - fresh.points[j].position).norm();
+      if (d2 < best) best = d2, separation = fresh.points[j].separation;
     }
-    s->w.step(1.0 / 60.0);
-    (s == &a ? ma : mb) = s->w.contactManifolds(s->cube, top);
-  }
-  EXPECT_EQ(a.w.stats().reusedManifolds, 1);
-  ASSERT_EQ(ma.size(), 1u);
-  ASSERT_EQ(mb.size(), 1u);
-  ASSERT_EQ(ma[0].pointCount, mb[0].pointCount);
-  EXPECT_LT((ma[0].normal - mb[0].normal).norm(), 1e-9);
-  for (int k = 0; k < ma[0].pointCount; ++k) {
-    const ContactPoint& p = ma[0].points[k];
-    double best = 1.0;
-    for (int j = 0; j < mb[0].pointCount; ++j)
-      best = std::min(best, (p.position - mb[0].points[j].position).norm());
-    EXPECT_LT(best, 1e-9) << "carried point " << p.position.transpose();
+    EXPECT_LT(best, 1e-9) << "carried point " << m.points[k].position.transpose();
+    EXPECT_NEAR(m.points[k].separation, separation, 1e-9);
   }
 }
 
