@@ -467,6 +467,13 @@ TEST(ContactReuse, APairMovedAsOneCarriesItsManifoldExactly) {
     EXPECT_LT(best, 1e-9) << "carried point " << m.points[k].position.transpose();
     EXPECT_NEAR(m.points[k].separation, separation, 1e-9);
   }
+  // Asked the other way round, the same manifold with its normal from top to cube.
+  const std::vector<Manifold> reversed = w.contactManifolds(top, s.cube);
+  ASSERT_EQ(reversed.size(), 1u);
+  EXPECT_EQ(reversed[0].normal, -m.normal);
+  EXPECT_EQ(reversed[0].pointCount, m.pointCount);
+  EXPECT_EQ(reversed[0].points[0].position, m.points[0].position);
+  EXPECT_TRUE(w.contactManifolds(top, top).empty());
 }
 
 // Carrying a manifold along must not change the physics beyond its thresholds: a cube set on
