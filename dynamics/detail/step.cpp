@@ -60,6 +60,44 @@ double closingSpeed(const Body& A, const Body& B, const Manifold& m) {
   return -((B.v + B.w.cross(x - B.com)) - (A.v + A.w.cross(x - A.com))).dot(m.normal);
 }
 
+// Whether B's pose relative to A (`relative`) is within `distance` and the angle whose half
+// has cosine `halfCos` of `was`. A distance of 0 accepts nothing.
+bool closeTo(const Transform& relative, const Transform& was, double distance, double halfCos) {
+  return (relative.p - was.p).squaredNorm() < distance * distance &&
+         std::abs(relative.q.dot(was.q)) >= halfCos;
+}
+
+// The points of a fresh convex manifold as fixed on each body, for carryAlong.
+void remember(const Transform& relative, double margin, const Body& A, const Body& B,
+              ContactManifold& c) {
+  c.computedAt = relative;
+  c.margin = margin;
+  const Mat3 RA = A.pose.q.toRotationMatrix(), RB = B.pose.q.toRotationMatrix();
+  c.localNormal = RA.transpose() * c.m.normal;
+  for (int k = 0; k < c.m.pointCount; ++k) {
+    const Vec3 half = (0.5 * c.m.points[k].separation) * c.m.normal;
+    c.onA[k] = RA.transpose() * (c.m.points[k].position - half - A.pose.p);
+    c.onB[k] = RB.transpose() * (c.m.points[k].position + half - B.pose.p);
+  }
+}
+
+// c, a copy of last step's manifold, moved with the bodies: its points stay fixed on them, so
+// the normal and the separations follow the motion (exactly for the points it has; a point that
+// a new narrowphase would add or drop waits until the pair leaves the thresholds).
+void carryAlong(const ContactManifold& last, const Body& A, const Body& B, ContactManifold& c) {
+  const Mat3 RA = A.pose.q.toRotationMatrix(), RB = B.pose.q.toRotationMatrix();
+  c.m.normal = RA * c.localNormal;
+  c.touching = false;
+  c.reused = true;
+  for (int k = 0; k < c.m.pointCount; ++k) {
+    const Vec3 a = RA * c.onA[k] + A.pose.p, b = RB * c.onB[k] + B.pose.p;
+    c.m.points[k].position = 0.5 * (a + b);
+    c.m.points[k].separation = (b - a).dot(c.m.normal);
+    c.touching |= c.m.points[k].separation < kTouching;
+  }
+  c.approachSpeed = std::max(closingSpeed(A, B, c.m), last.touching ? 0.0 : last.approachSpeed);
+}
+
 bool carriesOver(const std::vector<Body>& bodies, const ContactManifold& c) {
   // Contacts among sleeping and static bodies are not recomputed; keep them as they were.
   const Body &a = bodies[c.bodyA], &b = bodies[c.bodyB];
@@ -145,7 +183,7 @@ void World::Impl::narrowphase(size_t begin, size_t end, double dt,
   auto cursor = previous.begin();
   if (begin < end) {
     const uint64_t first =
-        (uint64_t(proxyBody[pairs[begin].first]) << 32) | proxyBody[pairs[begin].second];
+        detail::makePairKey(proxyBody[pairs[begin].first], proxyBody[pairs[begin].second]);
     cursor = std::lower_bound(previous.begin(), previous.end(), first,
                               [](const ContactManifold& c, uint64_t k) { return c.pairKey() < k; });
   }
@@ -175,9 +213,8 @@ void World::Impl::narrowphase(size_t begin, size_t end, double dt,
     // out could then close this step (it was farther than the old margin, less the pair's
     // motion since, a few mm at the thresholds).
     const ContactManifold* last = findPrevious(cursor, ia, ib, 0, 0);  // cursor at the pair
-    if (carriable && last && last->reusable &&
-        margin < last->margin + 0.5 * def.speculativeDistance &&
-        closeTo(relative, last->computedAt, reuseHalfCos)) {
+    if (carriable && last && margin < last->margin + 0.5 * def.speculativeDistance &&
+        closeTo(relative, last->computedAt, def.contactReuseDistance, reuseHalfCos)) {
       carryAlong(*last, A, B, out.manifolds.emplace_back(*last));
       continue;
     }
@@ -214,50 +251,8 @@ void World::Impl::narrowphase(size_t begin, size_t end, double dt,
 const ContactManifold* World::Impl::findPrevious(ManifoldIterator& from, uint32_t ia, uint32_t ib,
                                                  uint32_t childA, uint32_t childB) const {
   const auto key = std::make_tuple(ia, ib, childA, childB);
-  auto keyOf = [](const ContactManifold& c) {
-    return std::make_tuple(c.bodyA, c.bodyB, c.m.childA, c.m.childB);
-  };
-  while (from != previous.end() && keyOf(*from) < key) ++from;
-  return from != previous.end() && keyOf(*from) == key ? &*from : nullptr;
-}
-
-// Whether B's pose relative to A is within the reuse thresholds of where it was.
-bool World::Impl::closeTo(const Transform& relative, const Transform& was, double halfCos) const {
-  const double d = def.contactReuseDistance;
-  return (relative.p - was.p).squaredNorm() <= d * d && std::abs(relative.q.dot(was.q)) >= halfCos;
-}
-
-// The points of a fresh convex manifold as fixed on each body, for carryAlong.
-void World::Impl::remember(const Transform& relative, double margin, const Body& A, const Body& B,
-                           ContactManifold& c) const {
-  c.reusable = def.contactReuseDistance > 0.0;
-  c.computedAt = relative;
-  c.margin = margin;
-  const Mat3 RA = A.pose.q.toRotationMatrix(), RB = B.pose.q.toRotationMatrix();
-  c.localNormal = RA.transpose() * c.m.normal;
-  for (int k = 0; k < c.m.pointCount; ++k) {
-    const Vec3 half = (0.5 * c.m.points[k].separation) * c.m.normal;
-    c.onA[k] = RA.transpose() * (c.m.points[k].position - half - A.pose.p);
-    c.onB[k] = RB.transpose() * (c.m.points[k].position + half - B.pose.p);
-  }
-}
-
-// A copy of the last manifold moved with the bodies: its points stay fixed on them, so the
-// normal and the separations follow the motion (exactly for the points it has; a point that a
-// new narrowphase would add or drop waits until the pair leaves the thresholds).
-void World::Impl::carryAlong(const ContactManifold& last, const Body& A, const Body& B,
-                             ContactManifold& c) const {
-  const Mat3 RA = A.pose.q.toRotationMatrix(), RB = B.pose.q.toRotationMatrix();
-  c.m.normal = RA * c.localNormal;
-  c.touching = false;
-  c.reused = true;
-  for (int k = 0; k < c.m.pointCount; ++k) {
-    const Vec3 a = RA * c.onA[k] + A.pose.p, b = RB * c.onB[k] + B.pose.p;
-    c.m.points[k].position = 0.5 * (a + b);
-    c.m.points[k].separation = (b - a).dot(c.m.normal);
-    c.touching |= c.m.points[k].separation < kTouching;
-  }
-  c.approachSpeed = std::max(closingSpeed(A, B, c.m), last.touching ? 0.0 : last.approachSpeed);
+  while (from != previous.end() && from->key() < key) ++from;
+  return from != previous.end() && from->key() == key ? &*from : nullptr;
 }
 
 void World::Impl::inChunks(size_t count, size_t perChunk,

@@ -570,7 +570,7 @@ std::vector<Manifold> World::contactManifolds(BodyId a, BodyId b) const {
   impl_->body(b, "contactManifolds.b");
   const bool flip = a.index > b.index;
   const uint64_t key =
-      flip ? (uint64_t(b.index) << 32) | a.index : (uint64_t(a.index) << 32) | b.index;
+      flip ? detail::makePairKey(b.index, a.index) : detail::makePairKey(a.index, b.index);
   std::vector<Manifold> out;
   const auto& list = impl_->contacts;  // in key order
   auto it = std::lower_bound(

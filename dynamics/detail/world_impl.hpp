@@ -6,6 +6,7 @@
 #include <functional>
 #include <memory>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "collision/broadphase.hpp"
@@ -65,6 +66,11 @@ struct PointState {
   double normalImpulse = 0.0;
 };
 
+// The key of a pair of body slots, a < b.
+inline uint64_t makePairKey(uint32_t a, uint32_t b) {
+  return (uint64_t(a) << 32) | b;
+}
+
 // One manifold between two bodies (one child pair), as the narrowphase made it this step,
 // plus the impulses it carries from step to step.
 struct ContactManifold {
@@ -82,20 +88,18 @@ struct ContactManifold {
   // Where the narrowphase last ran for this pair of convex shapes: B's pose in A's frame, its
   // margin, the normal in A's frame and each point as fixed on either body. While the pair moves
   // less than the reuse thresholds from there, the manifold is carried along instead of recomputed.
-  bool reusable = false;
   bool reused = false;  // this step's manifold was carried along
   Transform computedAt;
   double margin = 0.0;  // the speculative margin it was computed with
   Vec3 localNormal = Vec3::UnitY();
   Vec3 onA[4], onB[4];
 
-  uint64_t pairKey() const { return (uint64_t(bodyA) << 32) | bodyB; }
-  bool keyLess(const ContactManifold& o) const {
-    if (bodyA != o.bodyA) return bodyA < o.bodyA;
-    if (bodyB != o.bodyB) return bodyB < o.bodyB;
-    if (m.childA != o.m.childA) return m.childA < o.m.childA;
-    return m.childB < o.m.childB;
+  uint64_t pairKey() const { return makePairKey(bodyA, bodyB); }
+  // Contact lists are kept in this order: bodies, then children.
+  std::tuple<uint32_t, uint32_t, uint32_t, uint32_t> key() const {
+    return {bodyA, bodyB, m.childA, m.childB};
   }
+  bool keyLess(const ContactManifold& o) const { return key() < o.key(); }
 };
 
 // Velocity-level state of one body inside the solver; index 0 is the immovable world.
@@ -252,11 +256,6 @@ struct World::Impl {
   using ManifoldIterator = std::vector<detail::ContactManifold>::const_iterator;
   const detail::ContactManifold* findPrevious(ManifoldIterator& from, uint32_t ia, uint32_t ib,
                                               uint32_t childA, uint32_t childB) const;
-  bool closeTo(const Transform& relative, const Transform& was, double halfCos) const;
-  void remember(const Transform& relative, double margin, const detail::Body& A,
-                const detail::Body& B, detail::ContactManifold& c) const;
-  void carryAlong(const detail::ContactManifold& last, const detail::Body& A, const detail::Body& B,
-                  detail::ContactManifold& c) const;
   void narrowphase(size_t beginPair, size_t endPair, double dt,
                    detail::NarrowphaseChunk& out) const;
   // task(begin, end, chunk) for [0, count) cut into chunks of perChunk, on the workers when

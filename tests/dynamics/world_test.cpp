@@ -346,6 +346,13 @@ struct CubeOnFloor {
     cube = w.createBody(d);
   }
 };
+
+// Moves a body and stops it (so the step's margin is the speculative distance).
+void place(World& w, BodyId id, const Transform& t) {
+  w.setPose(id, t.p, t.q);
+  w.setLinearVelocity(id, Vec3::Zero());
+  w.setAngularVelocity(id, Vec3::Zero());
+}
 }  // namespace
 
 // A pair that moved less than contactReuseDistance and contactReuseAngle (B relative to A)
@@ -363,9 +370,8 @@ TEST(ContactReuse, ARestingCubeCarriesItsManifoldUntilItMovesPastTheThresholds) 
   // not (the reference stays where the narrowphase last ran).
   auto nudge = [&](const Vec3& by, double yawDeg) {
     const Transform p = w.pose(s.cube);
-    w.setPose(s.cube, p.p + by, Quat(Eigen::AngleAxisd(yawDeg * kPi / 180.0, Vec3::UnitY())) * p.q);
-    w.setLinearVelocity(s.cube, Vec3::Zero());
-    w.setAngularVelocity(s.cube, Vec3::Zero());
+    place(w, s.cube,
+          {p.p + by, Quat(Eigen::AngleAxisd(yawDeg * kPi / 180.0, Vec3::UnitY())) * p.q});
     w.step(1.0 / 60.0);
     return w.stats().reusedManifolds;
   };
@@ -391,12 +397,6 @@ Manifold freshManifold(const World& w, BodyId a, BodyId b, const Transform& pa,
   return out.empty() ? Manifold{} : out[0];
 }
 
-// Moves bodies and stops them (so the step's margin is the speculative distance).
-void place(World& w, BodyId id, const Transform& t) {
-  w.setPose(id, t.p, t.q);
-  w.setLinearVelocity(id, Vec3::Zero());
-  w.setAngularVelocity(id, Vec3::Zero());
-}
 }  // namespace
 
 // A carried manifold is the one the narrowphase would compute: the cube's corners are fixed
