@@ -95,7 +95,7 @@ SolverRow makeRow(const SolverBody& a, const SolverBody& b, const Vec3& lin, con
 // mu times the patch's total normal impulse, the twist by the same times the patch radius.
 // Static friction (mu_s) holds until the cap is reached in a relax pass (when the normal
 // impulses were solved this substep); from then on the patch slides with mu_d.
-void solveFriction(SolverManifold& m, SolverBody& A, SolverBody& B, const SolveContext& ctx,
+bool solveFriction(SolverManifold& m, SolverBody& A, SolverBody& B, const SolveContext& ctx,
                    bool useBias, Moves moves, bool mayBreak) {
   double normal = 0.0;
   for (int k = 0; k < m.count; ++k) normal += m.impulse[k];
@@ -103,7 +103,7 @@ void solveFriction(SolverManifold& m, SolverBody& A, SolverBody& B, const SolveC
   SolverRow &t1 = m.friction[0], &t2 = m.friction[1], &twist = m.friction[2];
   // No push, no friction: a patch that does not press and holds no friction impulse has
   // nothing to do (most speculative contacts of a falling pile).
-  if (normal == 0.0 && t1.impulse == 0.0 && t2.impulse == 0.0 && twist.impulse == 0.0) return;
+  if (normal == 0.0 && t1.impulse == 0.0 && t2.impulse == 0.0 && twist.impulse == 0.0) return false;
   const double old1 = t1.impulse, old2 = t2.impulse;
   // A sticking patch is pulled back to its anchor softly in the biased pass (the drift is
   // linearised in the bodies' motion since the step began, as separations are).
@@ -154,6 +154,7 @@ void solveFriction(SolverManifold& m, SolverBody& A, SolverBody& B, const SolveC
     if (moves != Moves::OnlyB) A.w -= (nt - oldT) * twist.dwA;
     if (moves != Moves::OnlyA) B.w += (nt - oldT) * twist.dwB;
   }
+  return true;
 }
 
 // The coupling Jb M^-1 Jb^T of a manifold's three basis rows (centre normal, rotation about
@@ -178,26 +179,27 @@ void basisCoupling(const SolverManifold& m, const SolverBody& a, const SolverBod
 
 // The points' normal coupling K_ij = J_i M^-1 J_j^T = c_i . Kb c_j, with c_k = (1, alpha_k,
 // beta_k).
+template <int N>
 void pointCoupling(const SolverManifold& m, const double (&kb)[3][3], double (&K)[4][4]) {
   double kc[4][3];
-  for (int j = 0; j < m.count; ++j)
+  for (int j = 0; j < N; ++j)
     for (int i = 0; i < 3; ++i) kc[j][i] = kb[i][0] + kb[i][1] * m.alpha[j] + kb[i][2] * m.beta[j];
-  for (int i = 0; i < m.count; ++i)
-    for (int j = 0; j < m.count; ++j)
-      K[i][j] = kc[j][0] + m.alpha[i] * kc[j][1] + m.beta[i] * kc[j][2];
+  for (int i = 0; i < N; ++i)
+    for (int j = 0; j < N; ++j) K[i][j] = kc[j][0] + m.alpha[i] * kc[j][1] + m.beta[i] * kc[j][2];
 }
 
 // The points' coupling K (and for the shock pass the point masses 1 / K_kk) for the bodies a
 // solve moves, prepared the first time a solve needs them: a face patch that the exact patch
 // solve handles never does.
+template <int N>
 const double (*pointCouplings(SolverManifold& m, bool both))[4] {
   if (both) {
-    if (!m.couplingReady) pointCoupling(m, m.basisK, m.K), m.couplingReady = true;
+    if (!m.couplingReady) pointCoupling<N>(m, m.basisK, m.K), m.couplingReady = true;
     return m.K;
   }
   if (!m.shockCouplingReady) {
-    pointCoupling(m, m.shockBasisK, m.shockK);
-    for (int k = 0; k < m.count; ++k)
+    pointCoupling<N>(m, m.shockBasisK, m.shockK);
+    for (int k = 0; k < N; ++k)
       m.shockPointMass[k] = m.shockK[k][k] > 0.0 ? 1.0 / m.shockK[k][k] : 0.0;
     m.shockCouplingReady = true;
   }
@@ -290,26 +292,27 @@ void prepareBlock(SolverManifold& m) {
 // g are driven to the least-squares fit of the targets, and the new total impulses are spread
 // over the points (the least change, shifted along the slack if a point would pull). False,
 // with nothing applied, if no spread keeps every point pushing.
+template <int N>
 bool solveNormalBlock(SolverManifold& m, SolverBody& A, SolverBody& B, const double (&g)[3],
                       const double* bias, Moves moves) {
   double dg[3];
   for (int i = 0; i < 3; ++i) {
     double target = 0.0;
-    for (int k = 0; k < m.count; ++k) target -= m.fit[i][k] * bias[k];
+    for (int k = 0; k < N; ++k) target -= m.fit[i][k] * bias[k];
     dg[i] = target - g[i];
   }
   const double(*inv)[3] = moves == Moves::Both ? m.blockInv : m.shockBlockInv;
   double dT[3];
   for (int i = 0; i < 3; ++i) dT[i] = inv[i][0] * dg[0] + inv[i][1] * dg[1] + inv[i][2] * dg[2];
   double lambda[4], along = 0.0;
-  for (int k = 0; k < m.count; ++k) {
+  for (int k = 0; k < N; ++k) {
     lambda[k] = m.impulse[k] + m.fit[0][k] * dT[0] + m.fit[1][k] * dT[1] + m.fit[2][k] * dT[2];
     along += lambda[k] * m.slack[k];
   }
   // The even spread (least norm) of the new totals, unless a point would pull.
   double lo = -std::numeric_limits<double>::infinity(), hi = -lo;
   bool pulls = false;
-  for (int k = 0; k < m.count; ++k) {
+  for (int k = 0; k < N; ++k) {
     lambda[k] -= along * m.slack[k];
     pulls |= lambda[k] < 0.0;
     // lambda_k + t slack_k >= 0 bounds the shift t.
@@ -318,11 +321,11 @@ bool solveNormalBlock(SolverManifold& m, SolverBody& A, SolverBody& B, const dou
     if (m.slack[k] == 0.0 && lambda[k] < 0.0) hi = lo - 1.0;
   }
   if (pulls) {
-    if (m.count < 4 || lo > hi) return false;
+    if (N < 4 || lo > hi) return false;
     const double t = std::clamp(0.0, lo, hi);
-    for (int k = 0; k < m.count; ++k) lambda[k] = std::max(lambda[k] + t * m.slack[k], 0.0);
+    for (int k = 0; k < N; ++k) lambda[k] = std::max(lambda[k] + t * m.slack[k], 0.0);
   }
-  for (int k = 0; k < m.count; ++k) {
+  for (int k = 0; k < N; ++k) {
     m.maxImpulse[k] = std::max(m.maxImpulse[k], lambda[k] - m.impulse[k]);
     m.impulse[k] = lambda[k];
   }
@@ -362,10 +365,11 @@ bool solveSmall(const double (&a)[3][3], const double* r, int n, double* x) {
 // of a face go to the patch solve): the others let go, the pushing ones solved together. True,
 // with `delta` set, if the guess holds: every pushing point still pushes, and no let-go point
 // closes faster than its bias allows.
+template <int N>
 bool solveNormalActive(const SolverManifold& m, const double (*K)[4], const double* vn,
                        const double* bias, double* delta) {
   int active[4], na = 0;
-  for (int k = 0; k < m.count; ++k) {
+  for (int k = 0; k < N; ++k) {
     const bool pushing = m.impulse[k] > 0.0 || vn[k] + bias[k] < 0.0;
     if (pushing) active[na++] = k;
     delta[k] = pushing ? 0.0 : -m.impulse[k];
@@ -375,7 +379,7 @@ bool solveNormalActive(const SolverManifold& m, const double (*K)[4], const doub
   for (int i = 0; i < na; ++i) {
     const int k = active[i];
     r[i] = -(vn[k] + bias[k]);
-    for (int j = 0; j < m.count; ++j) r[i] -= K[k][j] * delta[j];
+    for (int j = 0; j < N; ++j) r[i] -= K[k][j] * delta[j];
     for (int j = 0; j < na; ++j) a[i][j] = K[k][active[j]];
   }
   if (na > 0 && !solveSmall(a, r, na, x)) return false;
@@ -383,10 +387,10 @@ bool solveNormalActive(const SolverManifold& m, const double (*K)[4], const doub
     if (m.impulse[active[i]] + x[i] < 0.0) return false;
     delta[active[i]] = x[i];
   }
-  for (int k = 0; k < m.count; ++k) {
+  for (int k = 0; k < N; ++k) {
     if (delta[k] != -m.impulse[k] || m.impulse[k] == 0.0) continue;
     double v = vn[k] + bias[k];
-    for (int j = 0; j < m.count; ++j) v += K[k][j] * delta[j];
+    for (int j = 0; j < N; ++j) v += K[k][j] * delta[j];
     if (v < -1e-9) return false;
   }
   return true;
@@ -437,11 +441,12 @@ inline bool idleByBounds(const SolverManifold& m, const SolverBody& A, const Sol
 // face's points by the patch solve, fewer by a small dense solve), else by a few Gauss-Seidel
 // sweeps over the manifold's own small system K. Solving them one at a time against the
 // bodies leaves the first point with most of the load and tips the body.
-void solveNormal(SolverManifold& m, SolverBody& A, SolverBody& B, const SolveContext& ctx,
-                 bool useBias, Moves moves) {
+template <int N>
+bool solveNormalN(SolverManifold& m, SolverBody& A, SolverBody& B, const SolveContext& ctx,
+                  bool useBias, Moves moves) {
   const Vec3& n = m.normal;
   const double linearVelocity = n.dot(B.v - A.v), linearShift = n.dot(B.dp - A.dp);
-  if (idleByBounds(m, A, B, ctx, useBias, linearVelocity, linearShift)) return;
+  if (idleByBounds(m, A, B, ctx, useBias, linearVelocity, linearShift)) return false;
   const Softness& soft = (m.a == 0 || m.b == 0) ? ctx.staticSoft : ctx.soft;
   // The basis velocities, and the basis displacements since the step began.
   double g[3];
@@ -454,7 +459,7 @@ void solveNormal(SolverManifold& m, SolverBody& A, SolverBody& B, const SolveCon
   bool rigid = true, idle = true;
   uint8_t softRows = 0;  // bit k: row k pushes out softly
   int speculative = 0;
-  for (int k = 0; k < m.count; ++k) {
+  for (int k = 0; k < N; ++k) {
     // Current separation, linearised in the bodies' motion since the step began.
     const double s = m.separation[k] + shift + m.alpha[k] * turn1 + m.beta[k] * turn2;
     double b = 0.0;
@@ -474,49 +479,53 @@ void solveNormal(SolverManifold& m, SolverBody& A, SolverBody& B, const SolveCon
   // Restitution answers the fastest approach before an impulse: the substep of impact
   // closes faster than the step's start did (by up to g dt at 60 Hz: 4 % of a 1 m drop).
   if (useBias && m.restitution != 0.0)
-    for (int k = 0; k < m.count; ++k) m.approach[k] = std::min(m.approach[k], vn[k]);
-  if (idle) return;  // nothing pushes and nothing closes faster than allowed
+    for (int k = 0; k < N; ++k) m.approach[k] = std::min(m.approach[k], vn[k]);
+  if (idle) return false;  // nothing pushes and nothing closes faster than allowed
   const bool block = moves == Moves::Both ? m.block : m.shockBlock;
-  if (rigid && !m.direct && block && (speculative == 0 || speculative == m.count) &&
-      solveNormalBlock(m, A, B, g, bias, moves))
-    return;
+  if (rigid && !m.direct && block && (speculative == 0 || speculative == N) &&
+      solveNormalBlock<N>(m, A, B, g, bias, moves))
+    return true;
   // Fewer points, or a guess that failed: the points' own coupling, exactly or by sweeps.
   const bool both = moves == Moves::Both;
-  const double(*K)[4] = pointCouplings(m, both);
-  const bool exact = rigid && !m.direct && solveNormalActive(m, K, vn, bias, delta);
+  const double(*K)[4] = pointCouplings<N>(m, both);
+  const bool exact = rigid && !m.direct && solveNormalActive<N>(m, K, vn, bias, delta);
   if (!exact) {
     const double* mass = both ? m.pointMass : m.shockPointMass;
     double massScale[4], impulseScale[4];
-    for (int k = 0; k < m.count; ++k) {
+    for (int k = 0; k < N; ++k) {
       const bool softRow = softRows & (1u << k);
       massScale[k] = softRow ? soft.massScale : 1.0;
       impulseScale[k] = softRow ? soft.impulseScale : 0.0;
     }
-    const int sweeps = m.count > 1 ? ctx.manifoldSweeps : 1;
+    const int sweeps = N > 1 ? ctx.manifoldSweeps : 1;
     const Sweep sweep{K, vn, bias, mass, massScale, impulseScale, m.impulse};
-    switch (m.count) {  // the point count as a constant: the sweep's loops unroll
-      case 1:
-        gaussSeidel<1>(sweep, sweeps, delta);
-        break;
-      case 2:
-        gaussSeidel<2>(sweep, sweeps, delta);
-        break;
-      case 3:
-        gaussSeidel<3>(sweep, sweeps, delta);
-        break;
-      default:
-        gaussSeidel<4>(sweep, sweeps, delta);
-        break;
-    }
+    gaussSeidel<N>(sweep, sweeps, delta);
   }
   // Apply the point impulses as one: their three basis sums.
   double L[3] = {0.0, 0.0, 0.0};
-  for (int k = 0; k < m.count; ++k) {
+  for (int k = 0; k < N; ++k) {
     m.impulse[k] += delta[k];
     m.maxImpulse[k] = std::max(m.maxImpulse[k], delta[k]);
     L[0] += delta[k], L[1] += m.alpha[k] * delta[k], L[2] += m.beta[k] * delta[k];
   }
   applyBasis(m, A, B, L, moves);
+  return true;
+}
+
+// The point count as a constant: every per-point loop of the solve unrolls. True if it
+// applied an impulse (an idle manifold changes nothing).
+bool solveNormal(SolverManifold& m, SolverBody& A, SolverBody& B, const SolveContext& ctx,
+                 bool useBias, Moves moves) {
+  switch (m.count) {
+    case 1:
+      return solveNormalN<1>(m, A, B, ctx, useBias, moves);
+    case 2:
+      return solveNormalN<2>(m, A, B, ctx, useBias, moves);
+    case 3:
+      return solveNormalN<3>(m, A, B, ctx, useBias, moves);
+    default:
+      return solveNormalN<4>(m, A, B, ctx, useBias, moves);
+  }
 }
 
 // Last step's impulses applied again, all rows of the manifold at once: one linear impulse
@@ -559,7 +568,13 @@ inline void solveManifold(SolverManifold& m, std::vector<SolverBody>& bodies,
   if (moves != Moves::Both && !m.shockReady) prepareShockRows(m, A, B, moves);
   // A new contact's normal goes first too, so its friction is not judged against a zero
   // normal impulse (the second solve takes out the tipping that friction at the patch adds).
-  if (!m.warm) solveNormal(m, A, B, ctx, useBias, moves);
+  // If neither changes anything (a gap that stays open), the second solve would find the same.
+  if (!m.warm) {
+    const bool pushed = solveNormal(m, A, B, ctx, useBias, moves);
+    if (solveFriction(m, A, B, ctx, useBias, moves, mayBreak) || pushed)
+      solveNormal(m, A, B, ctx, useBias, moves);
+    return;
+  }
   solveFriction(m, A, B, ctx, useBias, moves, mayBreak);
   solveNormal(m, A, B, ctx, useBias, moves);
 }
