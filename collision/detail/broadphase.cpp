@@ -145,9 +145,12 @@ void SweepBroadphase::findPairs(const std::vector<Aabb>& boxes, const std::vecto
       for (uint32_t j = i + 1; j < end; ++j) {
         const Swept& b = swept_[j];
         if (b.start > a.end) break;
-        if (!(a.active | b.active)) continue;
-        if (a.min1 > b.max1 || b.min1 > a.max1 || a.min2 > b.max2 || b.min2 > a.max2) continue;
-        if (std::max(a.strip, b.strip) != s) continue;  // reported in another strip
+        // One branch for the whole test: one per part mispredicted often (perf, the pile:
+        // findPairs 6.5 -> 5.3 % of the step).
+        const bool apart = (a.min1 > b.max1) | (b.min1 > a.max1) | (a.min2 > b.max2) |
+                           (b.min2 > a.max2) | !(a.active | b.active) |
+                           (std::max(a.strip, b.strip) != s);  // or reported in another strip
+        if (apart) continue;
         pairs.emplace_back(std::min(a.proxy, b.proxy), std::max(a.proxy, b.proxy));
       }
     }
