@@ -137,15 +137,18 @@ bool World::Impl::collide(double dt) {
   stats.reusedManifolds = 0;
 
   // Narrowphase and warm-start matching: pure functions of the poses, run in chunks of pairs
-  // on the workers, each chunk into its own list. Waking (a side effect) follows, in pair order.
-  const size_t chunks = (pairs.size() + kPairsPerChunk - 1) / kPairsPerChunk;
+  // on the workers, each chunk into its own list (on one thread, one chunk: its list becomes the
+  // contact list without a copy). Waking (a side effect) follows, in pair order.
+  const size_t perChunk =
+      def.workerThreads > 1 ? kPairsPerChunk : std::max<size_t>(pairs.size(), 1);
+  const size_t chunks = (pairs.size() + perChunk - 1) / perChunk;
   if (narrowphaseChunks.size() < chunks) narrowphaseChunks.resize(chunks);
-  inChunks(pairs.size(), kPairsPerChunk, [&](size_t begin, size_t end, size_t chunk) {
+  inChunks(pairs.size(), perChunk, [&](size_t begin, size_t end, size_t chunk) {
     narrowphase(begin, end, dt, narrowphaseChunks[chunk]);
   });
   bool woke = false;
   for (size_t chunk = 0; chunk < chunks; ++chunk) {
-    const detail::NarrowphaseChunk& out = narrowphaseChunks[chunk];
+    detail::NarrowphaseChunk& out = narrowphaseChunks[chunk];
     sensorPairs.insert(sensorPairs.end(), out.sensorPairs.begin(), out.sensorPairs.end());
     for (const ContactManifold& c : out.manifolds) {
       const Body &A = bodies[c.bodyA], &B = bodies[c.bodyB];
@@ -157,8 +160,11 @@ bool World::Impl::collide(double dt) {
         }
       }
       stats.reusedManifolds += c.reused;
-      contacts.push_back(c);
     }
+    if (chunks == 1)
+      contacts.swap(out.manifolds);  // contacts was empty
+    else
+      contacts.insert(contacts.end(), out.manifolds.begin(), out.manifolds.end());
   }
   // Keep contacts between bodies that did not move (sleeping or static), in key order.
   const size_t fresh = contacts.size();
