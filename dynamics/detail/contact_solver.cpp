@@ -429,8 +429,7 @@ inline bool idleByBounds(const SolverManifold& m, const SolverBody& A, const Sol
   if (m.rowsReady)
     for (int k = 0; k < m.count; ++k)
       if (m.impulse[k] != 0.0) return false;
-  const double gap =
-      m.minSeparation + linearShift - m.reachA * A.dtheta.norm() - m.reachB * B.dtheta.norm();
+  const double gap = m.minSeparation + linearShift - m.reachA * A.turned - m.reachB * B.turned;
   if (!(gap > 1e-12)) return false;
   const double approach = linearVelocity - m.reachA * A.w.norm() - m.reachB * B.w.norm();
   return approach + gap * ctx.invH > 1e-9;
@@ -982,6 +981,7 @@ void World::Impl::integratePositions(double h) {
     SolverBody& s = solverBodies[k + 1];
     s.dp += h * s.v;
     s.dtheta += h * s.w;
+    s.turned = s.dtheta.norm();
     if (!b.isDynamic() || b.isotropic || s.w.isZero()) {
       s.dq = integrateRotation(s.dq, s.w, h);
       continue;
@@ -1030,8 +1030,8 @@ void World::Impl::projectPositions() {
       SolverManifold& m = solverManifolds[i];
       SolverBody &A = solverBodies[m.a], &B = solverBodies[m.b];
       if (!m.rowsReady) {  // no point can be deeper than the bound (margin as in idleByBounds)
-        const double gap = m.minSeparation + m.normal.dot(B.dp - A.dp) -
-                           m.reachA * A.dtheta.norm() - m.reachB * B.dtheta.norm();
+        const double gap =
+            m.minSeparation + m.normal.dot(B.dp - A.dp) - m.reachA * A.turned - m.reachB * B.turned;
         if (gap > 1e-12 - def.positionSlop) continue;
         prepareRows(m);
       }
@@ -1057,6 +1057,7 @@ void World::Impl::projectPositions() {
       const Vec3 rotB = P[0] * m.dwB + P[1] * m.spinB[0] + P[2] * m.spinB[1];
       A.dp -= (A.invMass * P[0]) * m.normal, A.dtheta -= rotA, A.correction -= rotA;
       B.dp += (B.invMass * P[0]) * m.normal, B.dtheta += rotB, B.correction += rotB;
+      A.turned = A.dtheta.norm(), B.turned = B.dtheta.norm();
     }
   }
   for (SolverBody& b : solverBodies) {
