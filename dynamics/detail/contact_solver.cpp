@@ -1030,8 +1030,8 @@ void World::Impl::projectPositions() {
       SolverManifold& m = solverManifolds[i];
       SolverBody &A = solverBodies[m.a], &B = solverBodies[m.b];
       if (!m.rowsReady) {  // no point can be deeper than the bound (margin as in idleByBounds)
-        const double gap =
-            m.minSeparation + m.normal.dot(B.dp - A.dp) - m.reachA * A.turned - m.reachB * B.turned;
+        const double gap = m.minSeparation + m.normal.dot(B.dp - A.dp) -
+                           m.reachA * A.dtheta.norm() - m.reachB * B.dtheta.norm();
         if (gap > 1e-12 - def.positionSlop) continue;
         prepareRows(m);
       }
@@ -1057,7 +1057,6 @@ void World::Impl::projectPositions() {
       const Vec3 rotB = P[0] * m.dwB + P[1] * m.spinB[0] + P[2] * m.spinB[1];
       A.dp -= (A.invMass * P[0]) * m.normal, A.dtheta -= rotA, A.correction -= rotA;
       B.dp += (B.invMass * P[0]) * m.normal, B.dtheta += rotB, B.correction += rotB;
-      A.turned = A.dtheta.norm(), B.turned = B.dtheta.norm();
     }
   }
   for (SolverBody& b : solverBodies) {

@@ -109,7 +109,7 @@ struct alignas(64) SolverBody {
   Vec3 v = Vec3::Zero(), w = Vec3::Zero();
   Vec3 dp = Vec3::Zero();      // centre-of-mass displacement since the step began
   Vec3 dtheta = Vec3::Zero();  // small rotation since the step began (for separations)
-  double turned = 0.0;         // |dtheta|, kept with it (read by every idle bound)
+  double turned = 0.0;         // |dtheta|, set with it each substep (read by the idle bounds)
   double invMass = 0.0;
   Mat3 invI = Mat3::Zero();        // world inverse inertia, fixed over the step
   Quat dq = Quat::Identity();      // the same rotation, integrated exactly (for the pose)
