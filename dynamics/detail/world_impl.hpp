@@ -114,6 +114,10 @@ struct alignas(64) SolverBody {
   Mat3 invI = Mat3::Zero();        // world inverse inertia, fixed over the step
   Quat dq = Quat::Identity();      // the same rotation, integrated exactly (for the pose)
   Vec3 correction = Vec3::Zero();  // rotation applied by the position projection
+  // The next substep's warm start (World::Impl::warmStart): the velocities at this
+  // substep's start, and the reactions a shock pass held back from this body.
+  Vec3 startV = Vec3::Zero(), startW = Vec3::Zero();
+  Vec3 heldV = Vec3::Zero(), heldW = Vec3::Zero();
 };
 
 // One constraint row, prepared so that solving it costs a few dot products:
@@ -272,6 +276,7 @@ struct World::Impl {
   void prepareShock(size_t manifold);
   void projectPositions();
   void integrateVelocities(double h);
+  void warmStart(int substep);
   void integratePositions(double h);
   void applyRestitution();
   void storeImpulses();
