@@ -41,6 +41,7 @@ Softness makeSoft(double hertz, double zeta, double h) {
 
 struct SolveContext {
   double invH = 0.0, slop = 0.0, pushout = 0.0;
+  double touching = 0.0;  // a pushing point this near stays touching (def.positionSlop)
   int manifoldSweeps = 4;
   double breakVelocity = 0.0;
   Softness soft, staticSoft, anchorSoft;
@@ -471,7 +472,11 @@ bool solveNormalN(SolverManifold& m, SolverBody& A, SolverBody& B, const SolveCo
     // Current separation, linearised in the bodies' motion since the step began.
     const double s = m.separation[k] + shift + m.alpha[k] * turn1 + m.beta[k] * turn2;
     double b = 0.0;
-    if (s > 0.0) {
+    // A point that pushes stays touching across a gap within positionSlop (depths within it
+    // are not told apart, as the position projection leaves such overlaps alone). Letting it
+    // close the gap instead handed a body's load to whichever support stood a few micrometres
+    // higher, more so the more passes (docs/dynamics.md, the Jenga tower).
+    if (s > 0.0 && !(s <= ctx.touching && m.impulse[k] > 0.0)) {
       b = s * ctx.invH;  // speculative: may close the gap, no more
     } else if (useBias && s < -ctx.slop) {
       // Overlap beyond the slop: pushed out softly. Within the slop the contact is rigid.
@@ -481,7 +486,7 @@ bool solveNormalN(SolverManifold& m, SolverBody& A, SolverBody& B, const SolveCo
     }
     bias[k] = b;
     vn[k] = g[0] + m.alpha[k] * g[1] + m.beta[k] * g[2];
-    speculative += s > 0.0;
+    speculative += b > 0.0;
     idle &= m.impulse[k] == 0.0 && vn[k] + bias[k] >= 0.0;
   }
   // Restitution answers the fastest approach before an impulse: the substep of impact
@@ -730,6 +735,7 @@ void World::Impl::solve(double dt) {
   SolveContext ctx;
   ctx.invH = 1.0 / h, ctx.slop = def.linearSlop, ctx.pushout = def.maxPushoutVelocity;
   ctx.breakVelocity = 0.1 * def.stickVelocity;
+  ctx.touching = def.positionSlop;
   const double hertz = std::min(def.contactHertz, 0.25 / h);
   ctx.soft = makeSoft(hertz, def.contactDampingRatio, h);
   ctx.staticSoft = makeSoft(2.0 * hertz, def.contactDampingRatio, h);

@@ -113,8 +113,10 @@ TEST(Manipulation, APowerGraspCarriesAndTurnsAnObject) {
 // A fingertip pushes the middle block of the third layer of a Jenga-like tower (see
 // scenarios::addTower) 4.5 cm out along its length. The other blocks must move less than 5 mm,
 // and the same tower left alone must hold still.
-std::vector<Vec3> runTower(bool withHand, double& targetMoved) {
-  World w;
+std::vector<Vec3> runTower(bool withHand, double& targetMoved, int relaxIterations = 1) {
+  WorldDef def;
+  def.relaxIterations = relaxIterations;
+  World w(def);
   addFloor(w, 0.6, 0.5);
   const Tower tower = addTower(w, 6);
   const BodyId target = tower.blocks[7];
@@ -167,6 +169,24 @@ TEST(Manipulation, OneJengaBlockIsPushedOutWhileTheTowerStands) {
     EXPECT_LT(without[i].norm(), 1e-3) << "block " << i << " of the tower left alone";
     if (i != 7) {
       EXPECT_LT(with[i].norm(), 0.005) << "block " << i;
+    }
+  }
+}
+
+// More relax passes must not make it worse. The middle block of a layer shares the load above
+// with the two beside it in a split the rigid contacts leave open; when a loaded support could
+// close a micrometre gap, each pass handed load to whichever block stood higher, the target
+// came to carry up to 76 % (even: 33 %) and its sliding friction took layer 3 along (2-12
+// passes failed).
+TEST(Manipulation, TheJengaPushDoesNotDependOnTheRelaxCount) {
+  for (int passes : {2, 4, 8, 12}) {
+    double pushed = 0.0;
+    const std::vector<Vec3> with = runTower(true, pushed, passes);
+    EXPECT_GT(pushed, 0.035) << passes << " relax passes";
+    for (size_t i = 0; i < with.size(); ++i) {
+      if (i != 7) {
+        EXPECT_LT(with[i].norm(), 0.005) << "block " << i << ", " << passes << " passes";
+      }
     }
   }
 }
