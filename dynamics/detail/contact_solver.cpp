@@ -569,6 +569,19 @@ void prepareShockRows(SolverManifold& m, const SolverBody& A, const SolverBody& 
   m.shockReady = true;
 }
 
+// Which bodies a shock pass moves: the body farther from the ground only, unless the nearer
+// one presses into it (it tips up under a load it should carry, as a Jenga block pushed past
+// its support's edge under the layers above): then both, or the upper bodies would give way.
+inline Moves shockMoves(const SolverManifold& m, const std::vector<SolverBody>& bodies,
+                        const SolveContext& ctx) {
+  const Moves moves = static_cast<Moves>(m.shockMoves);
+  if (moves == Moves::Both) return moves;
+  const SolverBody &A = bodies[m.a], &B = bodies[m.b];
+  const double pressing = moves == Moves::OnlyB ? m.normal.dot(A.v) + m.armA.dot(A.w)
+                                                : -(m.normal.dot(B.v) + m.armB.dot(B.w));
+  return pressing > ctx.breakVelocity ? Moves::Both : moves;
+}
+
 // Friction first, against the current normal impulse; non-penetration last, so it has the
 // final word (as Jolt orders them; measured: normal-first lets tall stacks drift). A new
 // contact (no warm start) solves its normal before and after its friction; static friction
@@ -780,7 +793,7 @@ void World::Impl::solve(double dt) {
       for (int i : shockOrder) {
         if (passes[i] != r + 1 || !ready(i, false)) continue;
         SolverManifold& m = solverManifolds[i];
-        solveManifold(m, solverBodies, ctx, false, static_cast<Moves>(m.shockMoves));
+        solveManifold(m, solverBodies, ctx, false, shockMoves(m, solverBodies, ctx));
       }
     }
     solveDirectIslands(ctx, false);
@@ -1132,14 +1145,24 @@ void World::Impl::computeLevels() {
   queue.clear();
   for (int i = 0; i < n; ++i)
     if (solverBodies[i].invMass == 0.0) levels[i] = 0, queue.push_back(i);
-  for (size_t q = 0; q < queue.size(); ++q) {
-    const int body = queue[q];
-    for (int e = adjacencyStart[body]; e < adjacencyStart[body + 1]; ++e) {
-      const SolverManifold& m = solverManifolds[adjacency[e]];
-      const int other = m.a == body ? m.b : m.a;
-      if (levels[other] == kFree) levels[other] = levels[body] + 1, queue.push_back(other);
+  // First through the contacts that bear a load (warm, or within the slop), then through the
+  // rest: a speculative contact across a gap (a thin block two layers up, 15 mm away) must not
+  // put a body level with the one it rests on, or the shock pass would not order them.
+  const double supportGap = def.linearSlop;
+  auto spread = [&](bool all) {
+    for (size_t q = 0; q < queue.size(); ++q) {
+      const int body = queue[q];
+      for (int e = adjacencyStart[body]; e < adjacencyStart[body + 1]; ++e) {
+        const SolverManifold& m = solverManifolds[adjacency[e]];
+        if (!all && !m.warm && !(m.minSeparation < supportGap)) continue;
+        const int other = m.a == body ? m.b : m.a;
+        if (levels[other] == kFree) levels[other] = levels[body] + 1, queue.push_back(other);
+      }
     }
-  }
+  };
+  spread(false);
+  // Bodies reached only across gaps (falling ones) take a level from a neighbour too.
+  if (queue.size() < static_cast<size_t>(n)) spread(true);
   // Manifolds from the ground up (by their lower body's level; index order within a level):
   // a counting sort, as levels are small.
   const int count = static_cast<int>(solverManifolds.size());
