@@ -1145,10 +1145,11 @@ void World::Impl::computeLevels() {
   queue.clear();
   for (int i = 0; i < n; ++i)
     if (solverBodies[i].invMass == 0.0) levels[i] = 0, queue.push_back(i);
-  // First through the contacts that bear a load (warm, or within the slop), then through the
-  // rest: a speculative contact across a gap (a thin block two layers up, 15 mm away) must not
-  // put a body level with the one it rests on, or the shock pass would not order them.
-  const double supportGap = def.linearSlop;
+  // First through the contacts that bear a load (warm, or touching: within positionSlop, as
+  // ctx.touching), then through the rest: a speculative contact across a gap (a block two
+  // layers up, 15 mm away; a 3 mm poker chip two up, within linearSlop) must not put a body
+  // level with the one it rests on, or the shock pass would not order them.
+  const double supportGap = def.positionSlop;
   auto spread = [&](bool all) {
     for (size_t q = 0; q < queue.size(); ++q) {
       const int body = queue[q];
