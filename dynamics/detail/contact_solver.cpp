@@ -23,6 +23,8 @@ using detail::SolverRow;
 namespace {
 
 constexpr int kColdPasses = 4;  // relax passes for a touching new contact in its first substep
+constexpr double kMaxProjection = 0.05;  // m, the most one projection push moves a point
+constexpr double kTiltSlop = 0.3;  // of positionSlop: the patch tilt the projection leaves alone
 constexpr int kDirectRows =
     64;  // largest island (in normal rows) whose normals are solved directly
 
@@ -1071,7 +1073,13 @@ void World::Impl::applyRestitution() {
 // velocities are final, overlap beyond a small slop is removed by moving the bodies directly,
 // a fraction per pass. It adds no velocity, so it cannot add energy, and it keeps stacks from
 // sinking or leaning where a rigid velocity constraint alone would let them drift.
+// A manifold's overlap goes in two parts: what all its points share, by a push at the patch
+// centre that does not level the patch; then, point by point (which also levels it), what is
+// deeper than the slop by more than kTiltSlop more. Point by point from the slop itself, a
+// stack's contacts resting at the slop were levelled by turns that tilted the contacts above:
+// a stack of 20 cubes of 15 mm (or 80 of 0.1 m) leaned more each second until it fell.
 void World::Impl::projectPositions() {
+  const double slop = def.positionSlop, levelBeyond = slop + kTiltSlop * slop;
   for (int it = 0; it < def.positionIterations; ++it) {
     for (int i : shockOrder) {
       SolverManifold& m = solverManifolds[i];
@@ -1079,7 +1087,7 @@ void World::Impl::projectPositions() {
       if (!m.rowsReady) {  // no point can be deeper than the bound (margin as in idleByBounds)
         const double gap = m.minSeparation + m.normal.dot(B.dp - A.dp) -
                            m.reachA * A.dtheta.norm() - m.reachB * B.dtheta.norm();
-        if (gap > 1e-12 - def.positionSlop) continue;
+        if (gap > 1e-12 - slop) continue;
         prepareRows(m);
       }
       // The basis rows' displacements since the step began; a push at point k moves them by
@@ -1087,13 +1095,22 @@ void World::Impl::projectPositions() {
       const Vec3 turn = B.dtheta - A.dtheta;
       double x[3] = {m.normal.dot(B.dp - A.dp) + m.armB.dot(B.dtheta) - m.armA.dot(A.dtheta),
                      m.friction[0].lin.dot(turn), m.friction[1].lin.dot(turn)};
+      auto separation = [&](int k) {
+        return m.separation[k] + x[0] + m.alpha[k] * x[1] + m.beta[k] * x[2];
+      };
       double P[3] = {0.0, 0.0, 0.0};
+      double shared = std::numeric_limits<double>::infinity();
+      for (int k = 0; k < m.count; ++k) shared = std::min(shared, -separation(k) - slop);
+      if (shared > 0.0 && m.basisK[0][0] > 0.0) {
+        P[0] = std::min(def.positionCorrection * shared, kMaxProjection) / m.basisK[0][0];
+        for (int r = 0; r < 3; ++r) x[r] += m.basisK[r][0] * P[0];
+      }
       for (int k = 0; k < m.count; ++k) {
         const double c[3] = {1.0, m.alpha[k], m.beta[k]};
-        const double s = m.separation[k] + x[0] + c[1] * x[1] + c[2] * x[2];
-        if (s >= -def.positionSlop) continue;
+        const double s = separation(k);
+        if (s >= -levelBeyond) continue;
         const double push =
-            -m.pointMass[k] * std::max(def.positionCorrection * (s + def.positionSlop), -0.05);
+            m.pointMass[k] * std::min(-def.positionCorrection * (s + levelBeyond), kMaxProjection);
         for (int r = 0; r < 3; ++r) {
           P[r] += c[r] * push;
           x[r] += (m.basisK[r][0] + m.basisK[r][1] * c[1] + m.basisK[r][2] * c[2]) * push;

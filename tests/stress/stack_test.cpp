@@ -21,10 +21,11 @@ struct StackRun {
   bool finite = true;
 };
 
-StackRun runStack(int count, const WorldDef& def, double hz, double seconds) {
+StackRun runStack(int count, const WorldDef& def, double hz, double seconds, double size = kSize,
+                  double mass = 1.0) {
   World w(def);
   scenes::addGround(w);
-  const std::vector<BodyId> boxes = scenes::addBoxStack(w, count, kSize);
+  const std::vector<BodyId> boxes = scenes::addBoxStack(w, count, size, mass);
   const Vec3 start = w.pose(boxes.back()).p;
   const double e0 = totalEnergy(w);
   StackRun r;
@@ -64,7 +65,31 @@ TEST(Stack, TwentyBoxesStandWithTheDefaults) {
   expectStands(runStack(20, def, 60.0, 20.0));
 }
 
-// 50 need more substeps and passes than the defaults give: see docs/dynamics.md.
+// Narrow boxes lean sooner: 20 cubes of 15 mm, 20 times as tall as wide. Their contacts rest
+// at the position slop, where a projection that levelled each patch point by point tilted
+// the contact above, and the stack leaned more each second until it fell (336 mm, 6 s in).
+// Such a stack is near the limit of 4 substeps (5 or 8 relax passes hold it), so whether it
+// stands can hinge on rounding: counted over 16 masses from 1 g to 1 kg, none stood before,
+// and 15 stand now (docs/dynamics.md); see projectPositions.
+TEST(Stack, TwentyCubesOfFifteenMillimetresStandWithTheDefaults) {
+  WorldDef def;
+  def.enableSleep = false;
+  int standing = 0;
+  for (int i = 0; i < 16; ++i) {
+    const StackRun r = runStack(20, def, 60.0, 10.0, 0.015, 0.001 * std::pow(10.0, i / 5.0));
+    standing += r.finite && r.drift < 1e-3;
+  }
+  EXPECT_GE(standing, 14) << "of 16 stacks";
+}
+
+// The same lean felled 80 cubes of 0.1 m; 50 stood before and stand now.
+TEST(Stack, EightyBoxesStandWithTheDefaults) {
+  WorldDef def;
+  def.enableSleep = false;
+  expectStands(runStack(80, def, 60.0, 10.0));
+}
+
+// More substeps and passes than the defaults: 50 settle 0.4 mm (2.4 at the defaults).
 TEST(Stack, FiftyBoxesStand) {
   WorldDef def;
   def.enableSleep = false;
@@ -82,14 +107,14 @@ TEST(Stack, TwentyBoxesFallWithoutTheirExtraRelaxPasses) {
   EXPECT_GT(r.lateral, 0.01) << "the stack stood without its extra relax passes";
 }
 
-// With the default settings a 50-box stack may sag, but it never explodes or gains energy.
-TEST(Stack, FiftyBoxesWithDefaultsStayBoundedAndNeverGainEnergy) {
+// With the default settings a 100-box stack falls over, but it never explodes or gains energy.
+TEST(Stack, HundredBoxesWithDefaultsStayBoundedAndNeverGainEnergy) {
   WorldDef def;
   def.enableSleep = false;
-  const StackRun r = runStack(50, def, 60.0, 10.0);
+  const StackRun r = runStack(100, def, 60.0, 10.0);
   ASSERT_TRUE(r.finite);
   EXPECT_LT(r.energyGain, 1e-6) << "energy grew by " << r.energyGain << " J";
-  EXPECT_LT(r.sink, 50 * kSize) << "the stack fell through the ground";
+  EXPECT_LT(r.sink, 100 * kSize) << "the stack fell through the ground";
 }
 
 namespace {
