@@ -68,9 +68,9 @@ TEST(Stack, TwentyBoxesStandWithTheDefaults) {
 // Narrow boxes lean sooner: 20 cubes of 15 mm, 20 times as tall as wide. Their contacts rest
 // at the position slop, where a projection that levelled each patch point by point tilted
 // the contact above, and the stack leaned more each second until it fell (336 mm, 6 s in).
-// Such a stack is near the limit of 4 substeps (5 or 8 relax passes hold it), so whether it
-// stands can hinge on rounding: counted over 16 masses from 1 g to 1 kg, none stood before,
-// and 15 stand now (docs/dynamics.md); see projectPositions.
+// Such a stack is near the limit of 4 substeps (5 substeps or 8 relax passes hold it), so whether
+// it stands can hinge on rounding: counted over 16 masses from 1 g to 1 kg, none stood before, and
+// 15 stand now (docs/dynamics.md); see projectPositions.
 TEST(Stack, TwentyCubesOfFifteenMillimetresStandWithTheDefaults) {
   WorldDef def;
   def.enableSleep = false;
