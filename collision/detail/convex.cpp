@@ -166,6 +166,7 @@ CoreDistance gjk(const SupportA& supportA, const SupportB& supportB, Vec3 d) {
     bool duplicate = false;
     for (int i = 0; i < s.n; ++i) duplicate = duplicate || s.v[i].w == w.w;
     if (duplicate) break;
+    const Simplex best = s;
     s.v[s.n++] = w;
     if (!s.solve()) {
       out.overlap = true;
@@ -177,12 +178,14 @@ CoreDistance gjk(const SupportA& supportA, const SupportB& supportB, Vec3 d) {
       out.overlap = true;
       return out;
     }
-    out.direction = nv / std::sqrt(nvv);
-    if (nvv >= vv && s.n > 1) {  // rounding: stop at the best so far
-      v = nv;
-      vv = nvv;
+    // No closer: rounding, or a degenerate simplex (a vertex tying with the face it lies on,
+    // as flat faces of the two shapes give) whose sub-simplex picked is farther. Stop at the
+    // best so far; the farther one once put a resting plank 39 mm from a beam it touched.
+    if (nvv >= vv && s.n > 1) {
+      s = best;
       break;
     }
+    out.direction = nv / std::sqrt(nvv);
     v = nv;
     vv = nvv;
   }

@@ -206,7 +206,7 @@ int reducePoints(const Vec3* p, const double* sep, int count, const Vec3& n,
 }
 
 int clipFeatures(const Feature& ref, const Feature& inc, bool refIsA, double rRef, double rInc,
-                 double margin, Manifold& m) {
+                 double margin, Manifold& m, const Vec3& along) {
   ClipList a, b;
   for (int i = 0; i < inc.count; ++i) a.add(inc.p[i], inc.id[i] << 8);
   ClipList* in = &a;
@@ -214,28 +214,30 @@ int clipFeatures(const Feature& ref, const Feature& inc, bool refIsA, double rRe
   for (int j = 0; j < ref.count && in->n > 0; ++j) {
     const Vec3& r0 = ref.p[j];
     const Vec3& r1 = ref.p[(j + 1) % ref.count];
-    const Vec3 sideN = (r1 - r0).cross(ref.normal);
+    const Vec3 sideN = (r1 - r0).cross(along);
     clipAgainst(
         *in, [&](const Vec3& p) { return (p - r0).dot(sideN); }, j, *out);
     std::swap(in, out);
   }
-  // Depth of each clipped point below the reference face, then keep those within the margin.
+  // Depth of each clipped point below the reference face, along `along`, then keep those
+  // within the margin.
+  const double cosine = along.dot(ref.normal);
   std::array<Vec3, kMaxClip> pts;
   std::array<double, kMaxClip> seps;
   std::array<uint32_t, kMaxClip> ids;
   int count = 0;
   const uint32_t flip = refIsA ? 0u : 0x80000000u;
   for (int i = 0; i < in->n; ++i) {
-    const double s = (in->v[i].p - ref.p[0]).dot(ref.normal);
+    const double s = (in->v[i].p - ref.p[0]).dot(ref.normal) / cosine;
     const double sep = s - rRef - rInc;
     if (sep >= margin) continue;
-    pts[count] = in->v[i].p + ref.normal * (0.5 * (rRef - s - rInc));
+    pts[count] = in->v[i].p + along * (0.5 * (rRef - s - rInc));
     seps[count] = sep;
     ids[count] = flip | ((ref.face & 0x7FFu) << 20) | (in->v[i].id & 0xFFFFFu);
     ++count;
   }
   std::array<int, 4> keep;
-  const int k = reducePoints(pts.data(), seps.data(), count, ref.normal, keep);
+  const int k = reducePoints(pts.data(), seps.data(), count, along, keep);
   for (int i = 0; i < k; ++i) {
     m.points[i].position = pts[keep[i]];
     m.points[i].separation = seps[keep[i]];

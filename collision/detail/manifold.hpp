@@ -32,9 +32,11 @@ void supportingFeature(const Shape& s, const Transform& t, const Vec3& dir, Feat
 
 // Clips `inc` against `ref` (a face) and writes the manifold points into `m` (normal already
 // set). `refIsA` tells which shape the reference face belongs to. rRef/rInc are the rounding
-// radii. Returns the number of points (0 when nothing is within the margin).
+// radii. The clipping projects along `along` (unit, out of the reference face: its normal, or
+// a contact normal tilted from it), and depths are measured along it. Returns the number of
+// points (0 when nothing is within the margin).
 int clipFeatures(const Feature& ref, const Feature& inc, bool refIsA, double rRef, double rInc,
-                 double margin, Manifold& m);
+                 double margin, Manifold& m, const Vec3& along);
 
 // Face-face clipping of two boxes (no rounding), in the reference box's frame: `incAxes` holds
 // the incident box's axes and `incCentre` its centre in that frame; the reference face is

@@ -423,7 +423,8 @@ bool convexGeneric(const Shape& a, const Transform& ta, const Shape& b, const Tr
     // the true separation, not beyond it. Only for a capsule's segment, with the cores apart
     // (the separation is then GJK's exact distance) and the face within 5 degrees of GJK's
     // normal. (A hull plank across a narrow face has the same problem; for hulls the test is
-    // not enough: random hull pairs found other contacts that pass it.)
+    // not enough: random hull pairs found other contacts that pass it. They are clipped along
+    // the normal below.)
     const Shape& incShape = refIsA ? b : a;
     const bool mayOverhang = !supportAgrees && faceSep < sep && !dist.overlap &&
                              incShape.type() == ShapeType::Capsule &&
@@ -431,8 +432,8 @@ bool convexGeneric(const Shape& a, const Transform& ta, const Shape& b, const Tr
     if (supportAgrees || mayOverhang) {
       Manifold trial = m;
       trial.normal = refIsA ? faceN : Vec3(-faceN);
-      const int count =
-          detail::clipFeatures(ref, inc, refIsA, refIsA ? rA : rB, refIsA ? rB : rA, margin, trial);
+      const int count = detail::clipFeatures(ref, inc, refIsA, refIsA ? rA : rB, refIsA ? rB : rA,
+                                             margin, trial, faceN);
       double deepest = std::numeric_limits<double>::infinity();
       for (int i = 0; i < count; ++i) deepest = std::min(deepest, trial.points[i].separation);
       // Accept only if the clipped polygon keeps the deepest point (it always should; this
@@ -444,6 +445,23 @@ bool convexGeneric(const Shape& a, const Transform& ta, const Shape& b, const Tr
         m = trial;
         return true;
       }
+    }
+  }
+  // The face does not separate as well as the normal does (a plank across a narrow beam, tilted
+  // both ways a little: the best axis is an edge pair's, and the support beyond the face dips
+  // deeper). Clipping along the normal itself still gives the patch: each clipped point pairs
+  // with the point of the face it faces along the normal, and none is deeper than the normal's
+  // separation, which the deepest reaches when the clip holds the closest pair.
+  if (std::max(alignA, alignB) > 0.7 && inc.count >= 2) {
+    Manifold trial = m;
+    const int count = detail::clipFeatures(ref, inc, refIsA, refIsA ? rA : rB, refIsA ? rB : rA,
+                                           margin, trial, refIsA ? n : Vec3(-n));
+    double deepest = std::numeric_limits<double>::infinity();
+    for (int i = 0; i < count; ++i) deepest = std::min(deepest, trial.points[i].separation);
+    const double tolerance = 1e-6 + 1e-3 * std::abs(sep);
+    if (count > 0 && std::abs(deepest - sep) <= tolerance) {
+      m = trial;
+      return true;
     }
   }
   if (dist.overlap && (fa.count == 1 || fb.count == 1)) {

@@ -28,8 +28,8 @@ const std::map<std::string, std::string> kGolden = {
     {"pile200", "34e9408f83267c96"},
     {"stack20", "176c61ae54b713f4"},
     {"ball_into_stack", "458ea55c0e5b500d"},
-    {"incline", "d59257827b4adee1"},
-    {"mixed", "7fe9bb7562619b6e"},
+    {"incline", "d0bc94462eb0f6f4"},
+    {"mixed", "cec1769b52259f71"},
 };
 // clang-format on
 
