@@ -114,6 +114,7 @@ struct ClipVertex {
 };
 
 constexpr int kMaxClip = 2 * Feature::kMax + 4;
+constexpr double kSamePoint = 1e-5;  // m: clipped points closer than this are one point
 
 struct ClipList {
   int n = 0;
@@ -231,7 +232,14 @@ int clipFeatures(const Feature& ref, const Feature& inc, bool refIsA, double rRe
     const double s = (in->v[i].p - ref.p[0]).dot(ref.normal) / cosine;
     const double sep = s - rRef - rInc;
     if (sep >= margin) continue;
-    pts[count] = in->v[i].p + along * (0.5 * (rRef - s - rInc));
+    // A clip that collapses to a sliver (an incident corner just over the reference face's
+    // corner) repeats a point; two points at one place make the solver's point system singular.
+    const Vec3 p = in->v[i].p + along * (0.5 * (rRef - s - rInc));
+    bool repeated = false;
+    for (int j = 0; j < count && !repeated; ++j)
+      repeated = (p - pts[j]).squaredNorm() < kSamePoint * kSamePoint;
+    if (repeated) continue;
+    pts[count] = p;
     seps[count] = sep;
     ids[count] = flip | ((ref.face & 0x7FFu) << 20) | (in->v[i].id & 0xFFFFFu);
     ++count;
