@@ -114,7 +114,8 @@ struct ClipVertex {
 };
 
 constexpr int kMaxClip = 2 * Feature::kMax + 4;
-constexpr double kSamePoint = 1e-5;  // m: clipped points closer than this are one point
+constexpr double kTouchingBand = 1e-3;  // m: a point this close counts as touching
+constexpr double kSamePoint = 1e-5;     // m: clipped points closer than this are one point
 
 struct ClipList {
   int n = 0;
@@ -168,32 +169,41 @@ double area(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& n) {
 }  // namespace
 
 int reducePoints(const Vec3* p, const double* sep, int count, const Vec3& n,
-                 std::array<int, 4>& keep) {
+                 std::array<int, 4>& keep, bool touchingFirst) {
   if (count <= 4) {
     for (int i = 0; i < count; ++i) keep[i] = i;
     return count;
   }
   // 1: deepest. 2: farthest from it. 3: largest triangle. 4: largest growth of the quad.
+  // touchingFirst: each pick among the touching points (within kTouchingBand of contact)
+  // while any are left, so a vertex across a gap does not displace one that bears the load (a
+  // hull on the ground kept a vertex 15 mm up for one 6 mm deep, and rocked forever).
   int i0 = 0;
   for (int i = 1; i < count; ++i)
     if (sep[i] < sep[i0]) i0 = i;
+  int touching = 0;
+  if (touchingFirst)
+    for (int i = 0; i < count; ++i) touching += sep[i] < kTouchingBand;
+  auto eligible = [&](int i, int picked) {
+    return picked < touching ? sep[i] < kTouchingBand : true;
+  };
   int i1 = -1;
   double best = -1.0;
   for (int i = 0; i < count; ++i) {
     const double d = (p[i] - p[i0]).squaredNorm();
-    if (i != i0 && d > best) best = d, i1 = i;
+    if (i != i0 && eligible(i, 1) && d > best) best = d, i1 = i;
   }
   int i2 = -1;
   best = -1.0;
   for (int i = 0; i < count; ++i) {
     const double a = std::abs(area(p[i0], p[i1], p[i], n));
-    if (i != i0 && i != i1 && a > best) best = a, i2 = i;
+    if (i != i0 && i != i1 && eligible(i, 2) && a > best) best = a, i2 = i;
   }
   if (area(p[i0], p[i1], p[i2], n) < 0.0) std::swap(i1, i2);  // CCW about n
   int i3 = -1;
   best = 0.0;
   for (int i = 0; i < count; ++i) {
-    if (i == i0 || i == i1 || i == i2) continue;
+    if (i == i0 || i == i1 || i == i2 || !eligible(i, 3)) continue;
     // Area added outside the triangle's edges (negative areas are outside).
     const double a = -std::min(
         {area(p[i0], p[i1], p[i], n), area(p[i1], p[i2], p[i], n), area(p[i2], p[i0], p[i], n)});
@@ -207,7 +217,7 @@ int reducePoints(const Vec3* p, const double* sep, int count, const Vec3& n,
 }
 
 int clipFeatures(const Feature& ref, const Feature& inc, bool refIsA, double rRef, double rInc,
-                 double margin, Manifold& m, const Vec3& along) {
+                 double margin, Manifold& m, const Vec3& along, bool touchingFirst) {
   ClipList a, b;
   for (int i = 0; i < inc.count; ++i) a.add(inc.p[i], inc.id[i] << 8);
   ClipList* in = &a;
@@ -245,7 +255,7 @@ int clipFeatures(const Feature& ref, const Feature& inc, bool refIsA, double rRe
     ++count;
   }
   std::array<int, 4> keep;
-  const int k = reducePoints(pts.data(), seps.data(), count, along, keep);
+  const int k = reducePoints(pts.data(), seps.data(), count, along, keep, touchingFirst);
   for (int i = 0; i < k; ++i) {
     m.points[i].position = pts[keep[i]];
     m.points[i].separation = seps[keep[i]];

@@ -339,7 +339,7 @@ bool planeConvex(const Shape& plane, const Transform& tp, const Shape& s, const 
     ++found;
   }
   std::array<int, 4> keep;
-  const int k = detail::reducePoints(cand, seps, found, n, keep);
+  const int k = detail::reducePoints(cand, seps, found, n, keep, true);
   for (int i = 0; i < k; ++i) m.points[i] = {cand[keep[i]], seps[keep[i]], ids[keep[i]]};
   m.pointCount = k;
   return k > 0;
@@ -433,7 +433,7 @@ bool convexGeneric(const Shape& a, const Transform& ta, const Shape& b, const Tr
       Manifold trial = m;
       trial.normal = refIsA ? faceN : Vec3(-faceN);
       const int count = detail::clipFeatures(ref, inc, refIsA, refIsA ? rA : rB, refIsA ? rB : rA,
-                                             margin, trial, faceN);
+                                             margin, trial, faceN, true);
       double deepest = std::numeric_limits<double>::infinity();
       for (int i = 0; i < count; ++i) deepest = std::min(deepest, trial.points[i].separation);
       // Accept only if the clipped polygon keeps the deepest point (it always should; this
@@ -455,7 +455,7 @@ bool convexGeneric(const Shape& a, const Transform& ta, const Shape& b, const Tr
   if (std::max(alignA, alignB) > 0.7 && inc.count >= 2) {
     Manifold trial = m;
     const int count = detail::clipFeatures(ref, inc, refIsA, refIsA ? rA : rB, refIsA ? rB : rA,
-                                           margin, trial, refIsA ? n : Vec3(-n));
+                                           margin, trial, refIsA ? n : Vec3(-n), true);
     double deepest = std::numeric_limits<double>::infinity();
     for (int i = 0; i < count; ++i) deepest = std::min(deepest, trial.points[i].separation);
     const double tolerance = 1e-6 + 1e-3 * std::abs(sep);

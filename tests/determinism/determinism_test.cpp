@@ -29,7 +29,7 @@ const std::map<std::string, std::string> kGolden = {
     {"stack20", "176c61ae54b713f4"},
     {"ball_into_stack", "458ea55c0e5b500d"},
     {"incline", "d0bc94462eb0f6f4"},
-    {"mixed", "b25de173158f36ad"},
+    {"mixed", "ead4dd544b29a625"},
 };
 // clang-format on
 

@@ -2,6 +2,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
+#include <random>
 
 #include "stress_util.hpp"
 
@@ -105,6 +107,75 @@ TEST(Shapes, ThinFlatBoxRestsFlat) {
   const BodyId plate = dropOnGround(w, Shape::box(Vec3(0.2, 5e-4, 0.2)), 0.1);  // 1 mm thick
   runFinite(w, 180);
   EXPECT_NEAR(w.pose(plate).p.y(), 5e-4, 1e-3);
+}
+
+TEST(Shapes, IrregularHullsSetOnTheGroundComeToRest) {
+  // Random hulls of ten vertices, each set down turned at random, its lowest vertex 1 mm up.
+  // Most come within the ground's margin with more than four vertices, and four are kept:
+  // those that touch must win over those across a gap, or the hull rocks on the ones left out.
+  // Kept by area alone (a vertex 15 mm up instead of one 6 mm deep), 8 of these 60 never came
+  // to rest; one walked 18 cm in 10 s at 0.14 m/s with a vertex 11 mm into the ground.
+  std::mt19937 rng(5);
+  auto u = [&] { return static_cast<double>(rng()) / 4294967295.0 * 2.0 - 1.0; };
+  for (int i = 0; i < 60; ++i) {
+    std::vector<Vec3> points;
+    for (int k = 0; k < 10; ++k) points.emplace_back(0.08 * u(), 0.05 * u(), 0.08 * u());
+    const Quat q = Quat(u(), u(), u(), u()).normalized();
+    WorldDef def;
+    def.enableSleep = false;
+    World w(def);
+    scenes::addGround(w);
+    BodyDef d;
+    d.shape = Shape::convexHull(points);
+    d.mass = 0.5;
+    d.orientation = q;
+    double lowest = std::numeric_limits<double>::infinity();
+    for (const Vec3& v : d.shape->hull().vertices) lowest = std::min(lowest, (q * v).y());
+    d.position = Vec3(0, 0.001 - lowest, 0);
+    const BodyId id = w.createBody(d);
+    runFinite(w, 300);
+    const Vec3 settled = w.pose(id).p;
+    double fastest = 0.0;
+    for (int s = 0; s < 300; ++s) {
+      w.step(1.0 / 60.0);
+      fastest = std::max(fastest, w.linearVelocity(id).norm());
+    }
+    EXPECT_LT((w.pose(id).p - settled).norm(), 1e-3) << "hull " << i;
+    EXPECT_LT(fastest, 0.01) << "hull " << i;
+  }
+}
+
+TEST(Shapes, PilesOfIrregularHullsFallAsleep) {
+  // 300 hulls (random blobs of ten vertices, and planks) dropped in a heap. With the ground's
+  // and each other's contacts keeping the points that touch, each pile falls asleep within 4.8
+  // to 8.0 s (measured 2026-12-04); before, none did in 10 s, some hull always rocking.
+  for (const unsigned seed : {5u, 6u, 7u}) {
+    World w;
+    scenes::addGround(w);
+    std::mt19937 rng(seed);
+    auto u = [&] { return static_cast<double>(rng()) / 4294967295.0 * 2.0 - 1.0; };
+    for (int i = 0; i < 300; ++i) {
+      std::vector<Vec3> points;
+      for (int k = 0; k < 10; ++k) points.emplace_back(0.08 * u(), 0.05 * u(), 0.08 * u());
+      if (i % 3 == 0) {
+        points.clear();
+        for (int k = 0; k < 8; ++k)
+          points.emplace_back(k & 1 ? 0.2 : -0.2, k & 2 ? 0.015 : -0.015, k & 4 ? 0.04 : -0.04);
+      }
+      BodyDef d;
+      d.shape = Shape::convexHull(points);
+      d.mass = 0.5;
+      d.position = Vec3(0.25 * (i % 6) - 0.6, 0.2 + 0.15 * (i / 36), 0.25 * ((i / 6) % 6) - 0.6);
+      d.orientation = Quat(Eigen::AngleAxisd(0.7 * i, Vec3(1, 2, 3).normalized()));
+      w.createBody(d);
+    }
+    int steps = 0;
+    do {
+      w.step(1.0 / 60.0);
+    } while (w.stats().awakeBodies > 0 && ++steps < 600);
+    EXPECT_EQ(w.stats().awakeBodies, 0) << "seed " << seed;
+    EXPECT_TRUE(allFinite(w)) << "seed " << seed;
+  }
 }
 
 namespace {
