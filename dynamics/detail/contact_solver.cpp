@@ -25,6 +25,7 @@ namespace {
 constexpr int kColdPasses = 4;  // relax passes for a touching new contact in its first substep
 constexpr double kMaxProjection = 0.05;  // m, the most one projection push moves a point
 constexpr double kTiltSlop = 0.3;  // of positionSlop: the patch tilt the projection leaves alone
+constexpr double kMinPatchSpread = 1e-4;  // m: points spread less get no exact patch solve
 constexpr int kDirectRows =
     64;  // largest island (in normal rows) whose normals are solved directly
 
@@ -272,8 +273,12 @@ void prepareBlock(SolverManifold& m) {
   for (int k = 0; k < m.count; ++k) {
     saa += m.alpha[k] * m.alpha[k], sab += m.alpha[k] * m.beta[k], sbb += m.beta[k] * m.beta[k];
   }
-  // Points near a line leave a rotation unconstrained: no exact patch solve then.
+  // Points near a line leave a rotation unconstrained: no exact patch solve then. Nor points
+  // (nearly) at one place: the test is relative, and three copies of one point (arms of
+  // 1e-17 m) passed it; the fit, of order 1/det, stored impulses of 1e14 on them, and the next
+  // step's warm start flung a pile of hulls apart.
   const double det = saa * sbb - sab * sab;
+  if (!(saa + sbb > kMinPatchSpread * kMinPatchSpread)) return;
   if (!(det > 1e-4 * (saa + sbb) * (saa + sbb))) return;
   if (!invertBlock(m.basisK, m.blockInv)) return;
   // fit = (C^T C)^-1 C^T for C_k = (1, alpha_k, beta_k); the centre makes sum alpha = 0.
@@ -295,7 +300,9 @@ void prepareBlock(SolverManifold& m) {
     const double len = std::sqrt(m.slack[0] * m.slack[0] + m.slack[1] * m.slack[1] +
                                  m.slack[2] * m.slack[2] + m.slack[3] * m.slack[3]);
     if (!(len > 0.0)) return;
-    for (double& x : m.slack) x /= len;
+    // A point the slack barely moves (rounding, where two points coincide) is held: lifting
+    // it along the slack would take a huge shift (one gave an impulse of 3e17).
+    for (double& x : m.slack) x = std::abs(x) < 1e-6 * len ? 0.0 : x / len;
   }
   m.block = true;
 }

@@ -146,15 +146,17 @@ TEST(Shapes, IrregularHullsSetOnTheGroundComeToRest) {
 }
 
 TEST(Shapes, PilesOfIrregularHullsFallAsleep) {
-  // 300 hulls (random blobs of ten vertices, and planks) dropped in a heap. With the ground's
-  // and each other's contacts keeping the points that touch, each pile falls asleep within 4.8
-  // to 8.0 s (measured 2026-12-04); before, none did in 10 s, some hull always rocking.
-  for (const unsigned seed : {5u, 6u, 7u}) {
+  // 100 hulls (random blobs of ten vertices, and planks) dropped in a heap. With the ground's
+  // and each other's contacts keeping the points that touch, each pile falls asleep within
+  // 1.7-2.8 s (measured 2026-12-04, Release); before, all six were still awake after 20 s
+  // (1-66 bodies), some hull always rocking. The limit leaves room for other
+  // builds' rounding (the sanitizer build steps another trajectory).
+  for (const unsigned seed : {1u, 2u, 3u, 4u, 5u, 6u}) {
     World w;
     scenes::addGround(w);
     std::mt19937 rng(seed);
     auto u = [&] { return static_cast<double>(rng()) / 4294967295.0 * 2.0 - 1.0; };
-    for (int i = 0; i < 300; ++i) {
+    for (int i = 0; i < 100; ++i) {
       std::vector<Vec3> points;
       for (int k = 0; k < 10; ++k) points.emplace_back(0.08 * u(), 0.05 * u(), 0.08 * u());
       if (i % 3 == 0) {
