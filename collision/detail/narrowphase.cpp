@@ -359,6 +359,13 @@ void faceAxes(const Shape& s, const Transform& t, double sign, F&& consider) {
   }
 }
 
+// The smallest separation among a manifold's points (infinity when it has none).
+double deepestSeparation(const Manifold& m) {
+  double deepest = std::numeric_limits<double>::infinity();
+  for (int i = 0; i < m.pointCount; ++i) deepest = std::min(deepest, m.points[i].separation);
+  return deepest;
+}
+
 // Any two convex shapes: GJK distance between the cores (or libccd penetration when they
 // overlap) gives the normal; the supporting features are then clipped into a manifold when a
 // face is the separating axis, else the single closest-point pair is used.
@@ -434,8 +441,7 @@ bool convexGeneric(const Shape& a, const Transform& ta, const Shape& b, const Tr
       trial.normal = refIsA ? faceN : Vec3(-faceN);
       const int count = detail::clipFeatures(ref, inc, refIsA, refIsA ? rA : rB, refIsA ? rB : rA,
                                              margin, trial, faceN, true);
-      double deepest = std::numeric_limits<double>::infinity();
-      for (int i = 0; i < count; ++i) deepest = std::min(deepest, trial.points[i].separation);
+      const double deepest = deepestSeparation(trial);
       // Accept only if the clipped polygon keeps the deepest point (it always should; this
       // guards against a degenerate incident face).
       const bool keepsDeepest =
@@ -456,8 +462,7 @@ bool convexGeneric(const Shape& a, const Transform& ta, const Shape& b, const Tr
     Manifold trial = m;
     const int count = detail::clipFeatures(ref, inc, refIsA, refIsA ? rA : rB, refIsA ? rB : rA,
                                            margin, trial, refIsA ? n : Vec3(-n), true);
-    double deepest = std::numeric_limits<double>::infinity();
-    for (int i = 0; i < count; ++i) deepest = std::min(deepest, trial.points[i].separation);
+    const double deepest = deepestSeparation(trial);
     const double tolerance = 1e-6 + 1e-3 * std::abs(sep);
     if (count > 0 && std::abs(deepest - sep) <= tolerance) {
       m = trial;
