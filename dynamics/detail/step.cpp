@@ -98,6 +98,16 @@ void carryAlong(const ContactManifold& last, const Body& A, const Body& B, Conta
   c.approachSpeed = std::max(closingSpeed(A, B, c.m), last.touching ? 0.0 : last.approachSpeed);
 }
 
+// How far any point of the body can move in dt by turning: its spin times its reach from the
+// centre of mass (bounded by its box's; a static body, of unbounded reach, does not turn).
+// Capped at 1 m, as the speculative margin is.
+double turnTravel(const Body& b, double dt) {
+  const double spin = b.w.norm();
+  if (!(spin > 0.0)) return 0.0;
+  const double reach = (b.aabb.center() - b.com).norm() + 0.5 * (b.aabb.max - b.aabb.min).norm();
+  return std::min(spin * reach * dt, 1.0);
+}
+
 bool carriesOver(const std::vector<Body>& bodies, const ContactManifold& c) {
   // Contacts among sleeping and static bodies are not recomputed; keep them as they were.
   const Body &a = bodies[c.bodyA], &b = bodies[c.bodyB];
@@ -116,7 +126,7 @@ bool World::Impl::collide(double dt) {
     if (active) {
       // b.aabb is current: every pose change (createBody, setPose, the solver's write-back)
       // refreshes it. Grow it by the speculative distance and by the motion of this step.
-      Aabb box = b.aabb.inflated(def.speculativeDistance);
+      Aabb box = b.aabb.inflated(def.speculativeDistance + turnTravel(b, dt));
       const Vec3 travel = b.v * dt;
       box.min += travel.cwiseMin(Vec3::Zero());
       box.max += travel.cwiseMax(Vec3::Zero());
@@ -212,8 +222,10 @@ void World::Impl::narrowphase(size_t begin, size_t end, double dt,
     const bool carriable = A.shape->isConvex() && B.shape->isConvex() &&
                            (isPolytope(*A.shape) || isPolytope(*B.shape));
     const Transform relative = carriable ? A.pose.inverse() * B.pose : Transform{};
-    // Speculative margin: the contact is made early enough to stop this step's approach.
-    const double approach = (A.v.norm() + B.v.norm()) * dt;
+    // Speculative margin: the contact is made early enough to stop this step's approach, by
+    // their relative motion (two bodies falling side by side do not close) and their turns (the
+    // tip of a spinning plank closes at its spin times its length).
+    const double approach = (B.v - A.v).norm() * dt + turnTravel(A, dt) + turnTravel(B, dt);
     const double margin = def.speculativeDistance + std::min(approach, 1.0);
     // Not when the margin has grown by half the speculative distance or more: a point it left
     // out could then close this step (it was farther than the old margin, less the pair's

@@ -576,7 +576,9 @@ TEST(ContactReuse, ATippedCubeSettlesWhereFreshManifoldsPutIt) {
   EXPECT_GT(carried, 60);
   const Transform pa = a.w.pose(a.cube), pb = b.w.pose(b.cube);
   EXPECT_GT(std::abs(pb.p.x()), 0.02);  // it did fall back and slide
-  EXPECT_NEAR(pa.p.y(), 0.05, 1e-4);
+  // On the floor, within the band where a pushing contact counts as touching (the far edge
+  // comes down fast; its speculative points stop it within the band, 0.3 mm up, and hold it).
+  EXPECT_NEAR(pa.p.y(), 0.05, WorldDef{}.positionSlop);
   EXPECT_LT((pa.p - pb.p).norm(), 1e-4)
       << "carried " << pa.p.transpose() << ", fresh " << pb.p.transpose();
   EXPECT_LT(pa.q.angularDistance(pb.q), 1e-3);
