@@ -99,13 +99,14 @@ void carryAlong(const ContactManifold& last, const Body& A, const Body& B, Conta
 }
 
 // How far any point of the body can move in dt by turning: its spin times its reach from the
-// centre of mass (bounded by its box's; a static body, of unbounded reach, does not turn).
-// Capped at 1 m, as the speculative margin is.
+// centre of mass (bounded by its box's). Capped at 1 m, as the speculative margin is; an
+// unbounded reach (not a finite box) counts as the cap.
 double turnTravel(const Body& b, double dt) {
   const double spin = b.w.norm();
   if (!(spin > 0.0)) return 0.0;
   const double reach = (b.aabb.center() - b.com).norm() + 0.5 * (b.aabb.max - b.aabb.min).norm();
-  return std::min(spin * reach * dt, 1.0);
+  const double travel = spin * reach * dt;
+  return travel < 1.0 ? travel : 1.0;
 }
 
 bool carriesOver(const std::vector<Body>& bodies, const ContactManifold& c) {
@@ -120,13 +121,14 @@ bool World::Impl::collide(double dt) {
   const uint32_t n = static_cast<uint32_t>(bodies.size());
   proxyBoxes.clear(), proxyActive.clear(), proxyBody.clear();
   for (uint32_t i = 0; i < n; ++i) {
-    const Body& b = bodies[i];
+    Body& b = bodies[i];
     if (!b.alive) continue;
     const bool active = b.awake && b.type != BodyType::Static;
+    b.turnTravel = active ? turnTravel(b, dt) : 0.0;
     if (active) {
       // b.aabb is current: every pose change (createBody, setPose, the solver's write-back)
       // refreshes it. Grow it by the speculative distance and by the motion of this step.
-      Aabb box = b.aabb.inflated(def.speculativeDistance + turnTravel(b, dt));
+      Aabb box = b.aabb.inflated(def.speculativeDistance + b.turnTravel);
       const Vec3 travel = b.v * dt;
       box.min += travel.cwiseMin(Vec3::Zero());
       box.max += travel.cwiseMax(Vec3::Zero());
@@ -225,7 +227,7 @@ void World::Impl::narrowphase(size_t begin, size_t end, double dt,
     // Speculative margin: the contact is made early enough to stop this step's approach, by
     // their relative motion (two bodies falling side by side do not close) and their turns (the
     // tip of a spinning plank closes at its spin times its length).
-    const double approach = (B.v - A.v).norm() * dt + turnTravel(A, dt) + turnTravel(B, dt);
+    const double approach = (B.v - A.v).norm() * dt + A.turnTravel + B.turnTravel;
     const double margin = def.speculativeDistance + std::min(approach, 1.0);
     // Not when the margin has grown by half the speculative distance or more: a point it left
     // out could then close this step (it was farther than the old margin, less the pair's

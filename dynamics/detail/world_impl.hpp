@@ -46,7 +46,8 @@ struct Body {
   uint64_t userData = 0;
   std::string name;
   Aabb aabb;
-  int solverIndex = 0;  // index into the step's solver bodies (0: the static body)
+  int solverIndex = 0;      // index into the step's solver bodies (0: the static body)
+  double turnTravel = 0.0;  // m, how far its points can move by turning this step (collide)
 
   bool isDynamic() const { return type == BodyType::Dynamic; }
   // Its calm time starts again, from where it is now.
