@@ -47,6 +47,7 @@ struct SolveContext {
   double touching = 0.0;  // a pushing point this near stays touching (def.positionSlop)
   int manifoldSweeps = 4;
   double breakVelocity = 0.0;
+  double restingSpeed = 0.0;  // a body slower than this on its support rests (the load pass)
   Softness soft, staticSoft, anchorSoft;
 };
 
@@ -720,6 +721,51 @@ void solveIslandNormals(std::vector<SolverManifold>& manifolds, std::vector<Solv
   }
 }
 
+void undoLoadStep(const detail::LoadStep& u, std::vector<SolverManifold>& manifolds,
+                  std::vector<SolverBody>& bodies) {
+  SolverManifold& m = manifolds[u.manifold];
+  std::copy(u.impulse, u.impulse + 4, m.impulse);
+  std::copy(u.maxImpulse, u.maxImpulse + 4, m.maxImpulse);
+  for (int r = 0; r < 3; ++r) m.friction[r].impulse = u.friction[r];
+  m.sliding = u.sliding;
+  SolverBody &upper = bodies[u.upper], &lower = bodies[u.lower];
+  upper.v = u.v, upper.w = u.w, upper.heldV = u.heldV, upper.heldW = u.heldW;
+  lower.heldV = u.lowerHeldV, lower.heldW = u.lowerHeldW;
+}
+
+// One hand-down of the load pass (see solve): the upper body of manifold m takes back its held
+// reactions and m, with the lower body held still, stops it. Kept (true, with what it changed
+// in `undo`) if the body ends as it was, within a thousandth of what it took back; else undone.
+bool handLoadDown(int index, std::vector<SolverManifold>& manifolds,
+                  std::vector<SolverBody>& bodies, const SolveContext& ctx, Moves moves,
+                  detail::LoadStep& undo) {
+  SolverManifold& m = manifolds[index];
+  undo.manifold = index;
+  undo.upper = moves == Moves::OnlyB ? m.b : m.a;
+  undo.lower = moves == Moves::OnlyB ? m.a : m.b;
+  SolverBody &upper = bodies[undo.upper], &lower = bodies[undo.lower];
+  const double reach = moves == Moves::OnlyB ? m.reachB : m.reachA;
+  const double taken = upper.heldV.norm() + reach * upper.heldW.norm();
+  std::copy(m.impulse, m.impulse + 4, undo.impulse);
+  std::copy(m.maxImpulse, m.maxImpulse + 4, undo.maxImpulse);
+  for (int r = 0; r < 3; ++r) undo.friction[r] = m.friction[r].impulse;
+  undo.sliding = m.sliding;
+  undo.v = upper.v, undo.w = upper.w, undo.heldV = upper.heldV, undo.heldW = upper.heldW;
+  undo.lowerHeldV = lower.heldV, undo.lowerHeldW = lower.heldW;
+  if (!(taken > 0.0)) return true;  // nothing held: nothing to hand down
+  // Only a body at rest on its support: in a toppling or sliding island the loads are not
+  // the weights above, and handing them down fed the next warm start impulses it had to undo.
+  const double relative = (upper.v - lower.v).norm() + reach * (upper.w - lower.w).norm();
+  if (relative > ctx.restingSpeed) return false;
+  upper.v += upper.heldV, upper.w += upper.heldW;
+  upper.heldV.setZero(), upper.heldW.setZero();
+  solveManifold(m, bodies, ctx, false, moves);
+  const double moved = (upper.v - undo.v).norm() + reach * (upper.w - undo.w).norm();
+  if (moved <= 1e-3 * taken) return true;
+  undoLoadStep(undo, manifolds, bodies);
+  return false;
+}
+
 double combineFriction(double a, double b) {
   return std::sqrt(a * b);
 }
@@ -757,6 +803,7 @@ void World::Impl::solve(double dt) {
   SolveContext ctx;
   ctx.invH = 1.0 / h, ctx.slop = def.linearSlop, ctx.pushout = def.maxPushoutVelocity;
   ctx.breakVelocity = 0.1 * def.stickVelocity;
+  ctx.restingSpeed = def.sleepLinearVelocity;
   ctx.touching = def.positionSlop;
   const double hertz = std::min(def.contactHertz, 0.25 / h);
   ctx.soft = makeSoft(hertz, def.contactDampingRatio, h);
@@ -805,6 +852,29 @@ void World::Impl::solve(double dt) {
         solveManifold(m, solverBodies, ctx, false, shockMoves(m, solverBodies, ctx));
       }
     }
+    // The load pass, from the top down: a body resting on one support alone takes back the
+    // reactions the shock passes held from it (the loads of the bodies above), and where that
+    // support stops it again as it was, the impulses carry the load down to the ground in
+    // one pass instead of learning it over steps. Only chains of such bodies that end on a
+    // static one, and only whole islands: where one support cannot carry its load (a body
+    // would tip or slide), the island's hand-downs are undone, as a load left half way
+    // down would be thrown at one body by the next warm start.
+    loadLog.clear();
+    for (size_t k = 0; k < soleSupports.size(); ++k) {
+      const int i = soleSupports[k];
+      if (!ready(i, false) || islandRefused[soleSupportIslands[k]]) continue;
+      const Moves moves = shockMoves(solverManifolds[i], solverBodies, ctx);
+      if (moves == Moves::Both) continue;
+      detail::LoadStep& undo = loadLog.emplace_back();
+      undo.island = soleSupportIslands[k];
+      if (!handLoadDown(i, solverManifolds, solverBodies, ctx, moves, undo)) {
+        islandRefused[undo.island] = 1;
+        loadLog.pop_back();
+      }
+    }
+    for (auto it = loadLog.rbegin(); it != loadLog.rend(); ++it)
+      if (islandRefused[it->island]) undoLoadStep(*it, solverManifolds, solverBodies);
+    for (int island : soleSupportIslands) islandRefused[island] = 0;
     solveDirectIslands(ctx, false);
     if (sub + 1 < substeps)  // what the contacts did this substep, for the next warm start
       for (SolverBody& b : solverBodies) b.heldV += b.v - b.startV, b.heldW += b.w - b.startW;
@@ -1276,6 +1346,33 @@ void World::Impl::computeLevels() {
   }
   std::sort(tagged.begin(), tagged.end());
   for (size_t i = 0; i < solverManifolds.size(); ++i) prepareShock(i);
+  // The load pass's supports: bodies that rest on one support alone (counted per upper body),
+  // in chains down to a static body (ground up, a body's support comes before its own).
+  std::vector<int>& supports = fill;  // reused scratch
+  supports.assign(n, 0);
+  auto upperOf = [](const SolverManifold& m) {
+    return m.shockMoves == static_cast<uint8_t>(Moves::OnlyA)   ? m.a
+           : m.shockMoves == static_cast<uint8_t>(Moves::OnlyB) ? m.b
+                                                                : -1;
+  };
+  for (const SolverManifold& m : solverManifolds)
+    if (upperOf(m) >= 0) ++supports[upperOf(m)];
+  grounded.assign(n, 0);
+  for (int i : shockOrder) {
+    const SolverManifold& m = solverManifolds[i];
+    const int upper = upperOf(m);
+    if (upper < 0 || supports[upper] != 1) continue;
+    const int lower = upper == m.a ? m.b : m.a;
+    grounded[upper] = solverBodies[lower].invMass == 0.0 || grounded[lower];
+  }
+  soleSupports.clear(), soleSupportIslands.clear();
+  for (auto it = shockOrder.rbegin(); it != shockOrder.rend(); ++it) {
+    const int upper = upperOf(solverManifolds[*it]);
+    if (upper < 0 || supports[upper] != 1 || !grounded[upper]) continue;
+    soleSupports.push_back(*it);
+    soleSupportIslands.push_back(root(upper));
+  }
+  islandRefused.assign(n, 0);
   stats.directIslands = 0;
   for (size_t k = 0; k < tagged.size(); ++k) {
     directManifolds.push_back(tagged[k].second);

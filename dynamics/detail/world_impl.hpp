@@ -196,6 +196,15 @@ struct alignas(64) SolverManifold {
   double blockInv[3][3] = {}, shockBlockInv[3][3] = {};
 };
 
+// What one hand-down of the load pass changed (World::Impl::solve), to undo it.
+struct LoadStep {
+  int manifold = 0, island = 0, upper = 0, lower = 0;
+  double impulse[4] = {}, maxImpulse[4] = {}, friction[3] = {};
+  bool sliding = false;
+  Vec3 v = Vec3::Zero(), w = Vec3::Zero(), heldV = Vec3::Zero(), heldW = Vec3::Zero();
+  Vec3 lowerHeldV = Vec3::Zero(), lowerHeldW = Vec3::Zero();
+};
+
 struct SensorPair;
 
 struct SensorPair {
@@ -245,6 +254,12 @@ struct World::Impl {
   std::vector<int> levels, adjacencyStart, adjacency, shockOrder, fill, queue;  // shock order
   std::vector<int> islandOf, islandDepth, relaxPasses;  // relax passes per manifold
   std::vector<int> firstSubstepPasses;  // the same in the first substep (new contacts get more)
+  // The load pass (solve): the manifolds on which their upper body rests alone, in a chain of
+  // such bodies down to a static one, from the top down; each one's island; what each accepted
+  // hand-down changed, to undo an island's.
+  std::vector<int> soleSupports, soleSupportIslands;
+  std::vector<char> grounded, islandRefused;
+  std::vector<detail::LoadStep> loadLog;
   std::vector<double> islandLightest, islandHeaviest;  // inverse masses per island
   // Small islands of very unequal masses, solved directly (lists of manifold indices, each
   // list ended by -1), and per manifold whether it is in one.
