@@ -58,7 +58,7 @@ void expectStands(const StackRun& r) {
 }
 
 // The bar: 20 cubes of 0.1 m and 1 kg at 60 Hz, top within 1 mm over 10 s, at the
-// World's defaults (the island's height buys it extra relax passes).
+// World's defaults.
 TEST(Stack, TwentyBoxesStandWithTheDefaults) {
   WorldDef def;
   def.enableSleep = false;
