@@ -1,8 +1,9 @@
 // The solve stage: a soft-step contact solver in the style of Box2D v3 (Catto, "Solver2D"),
 // in 3D. Per substep: integrate velocities, warm start, solve with bias, integrate positions,
-// relax (solve without bias; the last relax pass propagates support from the ground up).
-// Then one restitution pass, a position projection, and the impulses are stored for the
-// next step's warm start. docs/dynamics.md explains the choices and the measurements.
+// relax (solve without bias; the last relax pass propagates support from the ground up),
+// hand held loads down (the load pass). Then one restitution pass, a position projection,
+// and the impulses are stored for the next step's warm start. docs/dynamics.md explains the
+// choices and the measurements.
 #include <algorithm>
 #include <array>
 #include <cmath>

@@ -2,7 +2,8 @@
 //   collide       broadphase -> narrowphase -> contact manifolds (warm-start memory kept)
 //   contactEvents begin/end of touching pairs, sensor overlaps
 //   solve         soft-step solver: per substep integrate velocities, warm start, solve with
-//                 bias, integrate positions, relax; then restitution, store impulses
+//                 bias, integrate positions, relax, hand loads down; then restitution,
+//                 position projection, store impulses
 //   updateSleep   islands; islands at rest long enough fall asleep
 //   finishStep    clear forces, advance time
 #include <algorithm>
