@@ -49,6 +49,7 @@ struct SolveContext {
   int manifoldSweeps = 4;
   double breakVelocity = 0.0;
   double restingSpeed = 0.0;  // a body slower than this on its support rests (the load pass)
+  double supportSpeed = 0.0;  // faster across a contact, a body is no support (shock pass)
   Softness soft, staticSoft, anchorSoft;
 };
 
@@ -580,14 +581,29 @@ void prepareShockRows(SolverManifold& m, const SolverBody& A, const SolverBody& 
   m.shockReady = true;
 }
 
-// Which bodies a shock pass moves: the body farther from the ground only, unless the nearer
-// one presses into it (it tips up under a load it should carry, as a Jenga block pushed past
-// its support's edge under the layers above): then both, or the upper bodies would give way.
+// How fast a body's surface at a manifold moves across its normal: sliding, plus turning.
+inline double acrossSpeed(const SolverBody& b, const Vec3& normal, double reach) {
+  return (b.v - b.v.dot(normal) * normal).norm() + reach * b.w.norm();
+}
+
+// Which bodies a shock pass moves: the body farther from the ground only, unless
+// - the nearer one presses into it (it tips up under a load it should carry, as a Jenga block
+//   pushed past its support's edge under the layers above): then both, or the upper bodies
+//   would give way;
+// - the nearer one slides or turns across the contact faster than a resting body can
+//   (ctx.supportSpeed): then both. Held still while it moves with the tower, a support gave
+//   the bodies above velocity its held reaction never took back, and collapsing towers gained
+//   energy (docs/dynamics.md). A stack settling moves along the normal, and a Jenga block
+//   pushed out at a hand's pace (3 cm/s) slower than that: they keep their shock passes.
 inline Moves shockMoves(const SolverManifold& m, const std::vector<SolverBody>& bodies,
                         const SolveContext& ctx) {
   const Moves moves = static_cast<Moves>(m.shockMoves);
   if (moves == Moves::Both) return moves;
   const SolverBody &A = bodies[m.a], &B = bodies[m.b];
+  const SolverBody& support = moves == Moves::OnlyB ? A : B;
+  if (acrossSpeed(support, m.normal, moves == Moves::OnlyB ? m.reachA : m.reachB) >
+      ctx.supportSpeed)
+    return Moves::Both;
   const double pressing = moves == Moves::OnlyB ? m.normal.dot(A.v) + m.armA.dot(A.w)
                                                 : -(m.normal.dot(B.v) + m.armB.dot(B.w));
   return pressing > ctx.breakVelocity ? Moves::Both : moves;
@@ -805,6 +821,8 @@ void World::Impl::solve(double dt) {
   ctx.invH = 1.0 / h, ctx.slop = def.linearSlop, ctx.pushout = def.maxPushoutVelocity;
   ctx.breakVelocity = 0.1 * def.stickVelocity;
   ctx.restingSpeed = def.sleepLinearVelocity;
+  // Resting, plus what gravity adds in a step before the contacts take it out (an incline).
+  ctx.supportSpeed = def.sleepLinearVelocity + def.gravity.norm() * dt;
   ctx.touching = def.positionSlop;
   const double hertz = std::min(def.contactHertz, 0.25 / h);
   ctx.soft = makeSoft(hertz, def.contactDampingRatio, h);

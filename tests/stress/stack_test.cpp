@@ -3,6 +3,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <string>
 
 #include "stress_util.hpp"
 
@@ -160,25 +161,35 @@ TEST(Stack, ALeaningStackStandsExactlyWhenItsCentreOfMassIsOverItsBase) {
   }
 }
 
-// A leaning stack that falls stays bounded: nothing explodes, the boxes stay above the
-// ground, and the energy never grows by more than a hundredth of what the stack held (it
-// gains a little on the way down, source not yet traced: docs/dynamics.md; measured 0.4 J).
-TEST(Stack, AFallingStackStaysBounded) {
-  WorldDef def;
-  def.enableSleep = false;
-  World w(def);
-  const std::vector<BodyId> boxes = addLeaningStack(w, 20, 0.006);
-  const double e0 = totalEnergy(w);
-  double gain = 0.0, lowest = 1e9;
-  for (int step = 0; step < 600; ++step) {
-    w.step(1.0 / 60.0);
-    ASSERT_TRUE(allFinite(w));
-    gain = std::max(gain, totalEnergy(w) - e0);
-    for (BodyId b : boxes) lowest = std::min(lowest, w.centerOfMass(b).y());
+// Leaning stacks that fall stay bounded: nothing explodes, the boxes stay above the ground,
+// and the energy never grows. Shock propagation holding a support still while it slides or
+// turns with the tower gave the boxes above velocity its reaction never took back: these
+// towers gained up to 14 J on the way down (docs/dynamics.md).
+TEST(Stack, FallingStacksGainNoEnergy) {
+  struct Case {
+    int count;
+    double lean;
+  };
+  for (const Case c :
+       {Case{20, 0.006}, Case{30, 0.008}, Case{60, 0.02}, Case{100, 0.008}, Case{100, 0.02}}) {
+    WorldDef def;
+    def.enableSleep = false;
+    World w(def);
+    const std::vector<BodyId> boxes = addLeaningStack(w, c.count, c.lean);
+    const double e0 = totalEnergy(w), topHeight = w.pose(boxes.back()).p.y();
+    double gain = 0.0, lowest = 1e9;
+    for (int step = 0; step < 600; ++step) {
+      w.step(1.0 / 60.0);
+      ASSERT_TRUE(allFinite(w));
+      gain = std::max(gain, totalEnergy(w) - e0);
+      for (BodyId b : boxes) lowest = std::min(lowest, w.centerOfMass(b).y());
+    }
+    const std::string name =
+        std::to_string(c.count) + " cubes leaning " + std::to_string(c.lean * 1e3) + " mm";
+    EXPECT_LT(w.pose(boxes.back()).p.y(), topHeight / 2) << name << ": it stood";
+    EXPECT_LT(gain, 0.05) << name << ": energy grew by " << gain << " J";
+    EXPECT_GT(lowest, 0.0) << name;
   }
-  EXPECT_GT(std::abs(w.pose(boxes.back()).p.x()), 0.5) << "it stood";
-  EXPECT_LT(gain, 0.01 * e0) << "energy grew by " << gain << " J";
-  EXPECT_GT(lowest, 0.0);
 }
 
 namespace {
