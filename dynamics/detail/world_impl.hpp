@@ -253,6 +253,7 @@ struct World::Impl {
   std::vector<detail::SolverManifold> solverManifolds;
   std::vector<int> levels, adjacencyStart, adjacency, shockOrder, fill, queue;  // shock order
   std::vector<int> islandOf, islandDepth, relaxPasses;  // relax passes per manifold
+  std::vector<uint8_t> bearing;         // per solver body: reached through load-bearing contacts
   std::vector<int> firstSubstepPasses;  // the same in the first substep (new contacts get more)
   // The load pass (solve): the manifolds on which their upper body rests alone, in a chain of
   // such bodies down to a static one, from the top down; each one's island; what each accepted

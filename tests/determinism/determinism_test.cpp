@@ -27,7 +27,7 @@ std::string hex(uint64_t h) {
 const std::map<std::string, std::string> kGolden = {
     {"pile200", "c5957fc3cd37b4f6"},
     {"stack20", "a37773b4306f5d1f"},
-    {"ball_into_stack", "141256e709620e96"},
+    {"ball_into_stack", "e1623f6f30f0cb75"},
     {"incline", "d0bc94462eb0f6f4"},
     {"mixed", "cad67b5f5d1cda16"},
 };

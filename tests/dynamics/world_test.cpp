@@ -348,6 +348,17 @@ TEST(Stack, TenThinCubesStandAsWellAsThickOnes) {
   EXPECT_LT(r.drift, 1e-3) << "top drifted " << r.drift * 1e3 << " mm";
 }
 
+// Islands more than 12 contact levels tall get extra relax passes (computeLevels). Thin cubes
+// stand on both sides of that threshold: 12 without the passes, 13 and 16 with them (without,
+// they fall: 203 and 236 mm; docs/dynamics.md).
+TEST(Stack, ThinCubesStandBelowAndAboveTheExtraPassHeight) {
+  for (const int n : {12, 13, 16}) {
+    const StackRun r = runStack(n, 10.0, 1, Vec3::Constant(0.0075));
+    EXPECT_LT(r.settle, 2e-3) << n << " cubes: top sank " << r.settle * 1e3 << " mm";
+    EXPECT_LT(r.drift, 1e-3) << n << " cubes: top drifted " << r.drift * 1e3 << " mm";
+  }
+}
+
 // Plates thinner than the slop (poker chips, 40 x 3 x 40 mm): a plate's speculative contact
 // with the plate two above spans a 3 mm gap, within linearSlop (5 mm). Such a contact carries
 // no load, so it must not set the plates' levels either (measured with levels through every
