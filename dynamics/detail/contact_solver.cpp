@@ -1301,7 +1301,7 @@ void World::Impl::computeLevels() {
   // relax pass, 20 needed about 5 and 50 about 18. So an island deeper than 12 levels gets
   // (2 (depth - 10) + 4) / 5 passes more than relaxIterations, up to maxRelaxIterations in all;
   // low piles pay nothing extra. The load pass now carries a column of cubes (80 stand with
-  // no extra pass); narrow ones still need them (20 cubes of 15 mm, 1 kg, fall without), and
+  // no extra pass); narrow ones still need them (13 cubes of 15 mm, 1 kg, fall without), and
   // at 11 and 12 levels they stood the same with and without (cubes of 0.1 m and of 15 mm at
   // 10 g to 1 kg, measured 2026-12-05), where a 1000-box pile paid 7 % of its step for one.
   // The height counts only bodies reached through load-bearing contacts: a body still
