@@ -18,4 +18,9 @@ std::vector<BodyId> addBoxStack(World& w, int count, double size = 0.1, double m
 // slightly staggered so they tumble into a pile.
 std::vector<BodyId> addBoxPile(World& w, int count);
 
+// A Jenga tower of `layers` layers resting exactly on y = 0: three blocks of 75 x 15 x 25 mm
+// (14 g, friction 0.4 / 0.35) a layer, crosswise, the bottom layer running along x; blocks in
+// layer order, each layer from -z (or -x) to +z (or +x).
+std::vector<BodyId> addJengaTower(World& w, int layers);
+
 }  // namespace grip::scenes

@@ -42,4 +42,26 @@ std::vector<BodyId> addBoxPile(World& w, int count) {
   return ids;
 }
 
+std::vector<BodyId> addJengaTower(World& w, int layers) {
+  const double len = 0.075, height = 0.015, width = 0.025;
+  const ShapePtr alongX = Shape::box(Vec3(0.5 * len, 0.5 * height, 0.5 * width));
+  const ShapePtr alongZ = Shape::box(Vec3(0.5 * width, 0.5 * height, 0.5 * len));
+  std::vector<BodyId> ids;
+  for (int layer = 0; layer < layers; ++layer) {
+    const double y = 0.5 * height + layer * height;
+    const bool inX = layer % 2 == 0;
+    for (int k = -1; k <= 1; ++k) {
+      BodyDef d;
+      d.shape = inX ? alongX : alongZ;
+      d.mass = 0.014;
+      d.position = inX ? Vec3(0.0, y, k * width) : Vec3(k * width, y, 0.0);
+      d.material.staticFriction = 0.4;
+      d.material.dynamicFriction = 0.35;
+      d.name = "box";
+      ids.push_back(w.createBody(d));
+    }
+  }
+  return ids;
+}
+
 }  // namespace grip::scenes

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <limits>
 
+#include "dynamics/scenes.hpp"
+
 namespace grip::scenarios {
 
 BodyId addFloor(World& w, double staticFriction, double dynamicFriction) {
@@ -49,19 +51,7 @@ BodyId addCylinder(World& w, double radius, double halfLength, double mass, cons
 }
 
 Tower addTower(World& w, int layers) {
-  const double len = 0.075, height = 0.015, width = 0.025, mass = 0.014;
-  Tower t;
-  t.blockHalfExtents = Vec3(0.5 * len, 0.5 * height, 0.5 * width);
-  for (int layer = 0; layer < layers; ++layer) {
-    const double y = 0.5 * height + layer * height;
-    const bool alongX = layer % 2 == 0;
-    for (int k = -1; k <= 1; ++k) {
-      const Vec3 half = alongX ? t.blockHalfExtents : Vec3(0.5 * width, 0.5 * height, 0.5 * len);
-      const Vec3 at = alongX ? Vec3(0.0, y, k * width) : Vec3(k * width, y, 0.0);
-      t.blocks.push_back(addBox(w, half, mass, at, Quat::Identity(), 0.4, 0.35));
-    }
-  }
-  return t;
+  return {scenes::addJengaTower(w, layers), Vec3(0.0375, 0.0075, 0.0125)};
 }
 
 HandPose parkedHand(const HandDef& def, const Vec3& where) {

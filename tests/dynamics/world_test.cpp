@@ -368,22 +368,9 @@ TEST(Stack, AnEighteenLayerJengaTowerStandsAtTheDefaults) {
   def.enableSleep = false;  // measure the solver, not the sleeping
   World w(def);
   scenes::addGround(w);
-  const ShapePtr alongX = Shape::box(Vec3(0.0375, 0.0075, 0.0125));
-  const ShapePtr alongZ = Shape::box(Vec3(0.0125, 0.0075, 0.0375));
-  std::vector<BodyId> blocks;
+  const std::vector<BodyId> blocks = scenes::addJengaTower(w, 18);
   std::vector<Vec3> start;
-  for (int layer = 0; layer < 18; ++layer) {
-    for (int k = 0; k < 3; ++k) {
-      BodyDef d;
-      d.shape = layer % 2 ? alongZ : alongX;
-      d.mass = 0.014;
-      d.material.staticFriction = 0.4, d.material.dynamicFriction = 0.35;
-      const double y = 0.0075 + 0.015 * layer, across = -0.025 + 0.025 * k;
-      d.position = layer % 2 ? Vec3(across, y, 0.0) : Vec3(0.0, y, across);
-      blocks.push_back(w.createBody(d));
-      start.push_back(d.position);
-    }
-  }
+  for (BodyId b : blocks) start.push_back(w.pose(b).p);
   for (int i = 0; i < 60; ++i) w.step(1.0 / 60.0);
   std::vector<Vec3> settled;
   for (size_t i = 0; i < blocks.size(); ++i) {
