@@ -3,8 +3,13 @@
 // -DGRIP_WITH_ODE=ON; run build/bench/peers_bench. The engines are the sweep's
 // (bench/peers/, apps/sweep/): grip 60 Hz 4 substeps; Bullet 60 Hz 10 iterations; ODE 60 Hz
 // quickstep 20 iterations.
+// Scenes: Pile1000 and Pile100 drop the boxes in staggered layers (the pile lands within the
+// run); PileRest1000 starts every engine from the same resting pile (grip's, settled for 10 s),
+// at each engine's defaults, and PileRest1000Awake the same with sleeping off in every engine
+// (the cost of holding a pile up).
 // Counters: ms_per_step (wall time per step), below (bodies whose centre went below the ground
-// at any step); for the stacks settle_mm (the top's movement in the first second) and drift_mm
+// at any step); for the resting piles moved (bodies more than 5 mm from their start at the
+// end); for the stacks settle_mm (the top's movement in the first second) and drift_mm
 // (its largest movement from there over the next 10 s: issue 2's bar, as tests/dynamics
 // measures it). For medians on a noisy host, run with --benchmark_repetitions=7
 // --benchmark_enable_random_interleaving=true (docs/performance.md).
@@ -43,17 +48,41 @@ const sweep::Engine& engine(const std::string& name) {
   throw Error("engine", "not in this build: " + name);
 }
 
+// The 1000-box pile dropped and settled by grip for 10 s with every body awake (the fastest
+// box then moves about 5 mm/s): the start of the resting-pile scenes. Made on first use.
+const std::vector<sweep::SolidDef>& restingPile() {
+  static const std::vector<sweep::SolidDef> solids = [] {
+    std::vector<sweep::SolidDef> out = layout(true, 1000);
+    sweep::SceneDef awake;
+    awake.sleep = false;
+    const sweep::Engine& e = engine("grip");
+    auto sim = e.make(awake, e.defaults);
+    for (const sweep::SolidDef& s : out) sim->add(s);
+    for (int s = 0; s < 600; ++s) sim->step();
+    for (size_t i = 0; i < out.size(); ++i) {
+      out[i].position = sim->position(static_cast<int>(i));
+      out[i].orientation = sim->orientation(static_cast<int>(i));
+    }
+    return out;
+  }();
+  return solids;
+}
+
 // One iteration = build the scene, then `steps` steps. The stacks' top is read after
 // kSettleSteps (a stack built exactly resting still settles into its contacts' slop).
 constexpr int kSettleSteps = 60;
 
+enum class Kind { Drop, Rest, Stack };
+
 void runScene(benchmark::State& state, const std::string& name,
-              const std::vector<sweep::SolidDef>& solids, int steps, bool stack) {
+              const std::vector<sweep::SolidDef>& solids, int steps, Kind kind, bool sleep) {
   const sweep::Engine& e = engine(name);
-  double below = 0, settle = 0, drift = 0, stepMs = 0;
+  double below = 0, moved = 0, settle = 0, drift = 0, stepMs = 0;
   int runs = 0;
+  sweep::SceneDef scene;
+  scene.sleep = sleep;
   for (auto _ : state) {
-    auto sim = e.make(sweep::SceneDef{}, e.defaults);
+    auto sim = e.make(scene, e.defaults);
     for (const sweep::SolidDef& s : solids) sim->add(s);
     const int top = static_cast<int>(solids.size()) - 1;
     const Vec3 start = sim->position(top);
@@ -72,11 +101,14 @@ void runScene(benchmark::State& state, const std::string& name,
     settle = (settled - start).norm();
     below = 0;
     for (uint8_t b : wentBelow) below += b;
+    moved = 0;
+    for (int i = 0; i <= top; ++i) moved += (sim->position(i) - solids[i].position).norm() > 0.005;
     ++runs;
   }
   state.counters["ms_per_step"] = stepMs / (runs * steps);
   state.counters["below"] = below;
-  if (stack) {
+  if (kind == Kind::Rest) state.counters["moved"] = moved;
+  if (kind == Kind::Stack) {
     state.counters["settle_mm"] = settle * 1e3;
     state.counters["drift_mm"] = drift * 1e3;
   }
@@ -85,21 +117,29 @@ void runScene(benchmark::State& state, const std::string& name,
 void registerAll() {
   struct Case {
     const char* name;
-    bool pile;
+    Kind kind;
+    bool sleep;
     int count, steps, iterations;
     benchmark::TimeUnit unit;
   };
-  const Case cases[] = {{"Pile1000", true, 1000, 180, 3, benchmark::kSecond},
-                        {"Pile100", true, 100, 180, 5, benchmark::kMillisecond},
-                        {"Stack20", false, 20, kSettleSteps + 600, 3, benchmark::kMillisecond},
-                        {"Stack10", false, 10, kSettleSteps + 600, 3, benchmark::kMillisecond}};
+  const Case cases[] = {
+      {"Pile1000", Kind::Drop, true, 1000, 180, 3, benchmark::kSecond},
+      {"PileRest1000", Kind::Rest, true, 1000, 180, 3, benchmark::kSecond},
+      {"PileRest1000Awake", Kind::Rest, false, 1000, 180, 3, benchmark::kSecond},
+      {"Pile100", Kind::Drop, true, 100, 180, 5, benchmark::kMillisecond},
+      {"Stack20", Kind::Stack, true, 20, kSettleSteps + 600, 3, benchmark::kMillisecond},
+      {"Stack10", Kind::Stack, true, 10, kSettleSteps + 600, 3, benchmark::kMillisecond}};
   for (const Case& c : cases) {
-    const std::vector<sweep::SolidDef> solids = layout(c.pile, c.count);
+    const std::vector<sweep::SolidDef> built = c.kind == Kind::Rest
+                                                   ? std::vector<sweep::SolidDef>{}
+                                                   : layout(c.kind == Kind::Drop, c.count);
     for (const sweep::Engine& e : peers::allEngines()) {
       const std::string name = "BM_Peer_" + std::string(c.name) + "_" + e.name;
       benchmark::RegisterBenchmark(name.c_str(),
-                                   [solids, c, n = e.name](benchmark::State& s) {
-                                     runScene(s, n, solids, c.steps, !c.pile);
+                                   [built, c, n = e.name](benchmark::State& s) {
+                                     const std::vector<sweep::SolidDef>& solids =
+                                         c.kind == Kind::Rest ? restingPile() : built;
+                                     runScene(s, n, solids, c.steps, c.kind, c.sleep);
                                    })
           ->Unit(c.unit)
           ->Iterations(c.iterations);

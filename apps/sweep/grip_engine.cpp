@@ -42,6 +42,7 @@ class GripSim : public Sim {
     d.gravity = sc.gravity;
     d.substeps = s.substeps;
     d.relaxIterations = s.iterations;
+    d.enableSleep = sc.sleep;
     return d;
   }
   World world_;

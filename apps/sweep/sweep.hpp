@@ -37,6 +37,9 @@ struct SolidDef {
 struct SceneDef {
   Vec3 gravity = Vec3(0, -9.81, 0);
   bool ground = true;  // a static plane y = 0
+  // Each engine's own sleeping at its defaults; false keeps every body awake, so that a
+  // resting scene measures the solver's work (ODE does not sleep bodies by default anyway).
+  bool sleep = true;
 };
 
 // The knobs every engine has: step, substeps per step, and solver iterations (grip: relax

@@ -9,7 +9,7 @@ namespace {
 
 class BulletSim final : public sweep::Sim {
  public:
-  BulletSim(const sweep::SceneDef& sc, const sweep::Settings& s) : s_(s) {
+  BulletSim(const sweep::SceneDef& sc, const sweep::Settings& s) : s_(s), sleep_(sc.sleep) {
     world_.setGravity(btVector3(sc.gravity.x(), sc.gravity.y(), sc.gravity.z()));
     world_.getSolverInfo().m_numIterations = s.iterations;
     // Bullet multiplies the friction and restitution of a pair: the ground's are 1.
@@ -35,6 +35,7 @@ class BulletSim final : public sweep::Sim {
         btVector3(s.linearVelocity.x(), s.linearVelocity.y(), s.linearVelocity.z()));
     b->setAngularVelocity(
         btVector3(s.angularVelocity.x(), s.angularVelocity.y(), s.angularVelocity.z()));
+    if (!sleep_) b->setActivationState(DISABLE_DEACTIVATION);
     dynamic_.push_back(b);
     return static_cast<int>(dynamic_.size()) - 1;
   }
@@ -78,6 +79,7 @@ class BulletSim final : public sweep::Sim {
   }
 
   sweep::Settings s_;
+  bool sleep_;
   btDefaultCollisionConfiguration config_;
   btCollisionDispatcher dispatcher_{&config_};
   btDbvtBroadphase broadphase_;
