@@ -1,4 +1,4 @@
-// World step cost: resting stacks, resting piles, and a pile being dropped.
+// World step cost: resting stacks, resting piles, a pile being dropped; what a snapshot costs.
 #include <benchmark/benchmark.h>
 
 #include <chrono>
@@ -64,3 +64,21 @@ void BM_World_PileDrop(benchmark::State& state) {
 BENCHMARK(BM_World_PileDrop)->Arg(1000)->Unit(benchmark::kMillisecond)->Iterations(3);
 
 }  // namespace
+
+// A snapshot: copying a world with a resting pile (bodies, contacts, warm-start impulses) and
+// assigning it back, as a rollback would. Against one step of the same pile above.
+void BM_World_Snapshot(benchmark::State& state) {
+  WorldDef def;
+  def.enableSleep = false;
+  World w(def);
+  scenes::addGround(w);
+  scenes::addBoxPile(w, static_cast<int>(state.range(0)));
+  for (int i = 0; i < 240; ++i) w.step(1.0 / 60.0);
+  World saved(w);
+  for (auto _ : state) {
+    saved = w;
+    benchmark::DoNotOptimize(saved);
+  }
+  state.counters["contacts"] = w.stats().contactPoints;
+}
+BENCHMARK(BM_World_Snapshot)->Arg(100)->Arg(1000)->Unit(benchmark::kMicrosecond);

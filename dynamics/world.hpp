@@ -129,8 +129,16 @@ class World {
  public:
   explicit World(const WorldDef& def = WorldDef{});
   ~World();
-  World(const World&) = delete;
-  World& operator=(const World&) = delete;
+  // A copy holds everything that decides what comes next: the bodies, the contacts with their
+  // warm-start impulses, sleep, time, gravity, the last step's events and stats. Stepping the
+  // copy gives the same states, bit for bit, as stepping the original (snapshots, rollback,
+  // what-if), and the same body ids name the same bodies in both. Worker threads are not
+  // copied: a copy makes its own on first use. A moved-from world may only be assigned to or
+  // destroyed.
+  World(const World& other);
+  World& operator=(const World& other);
+  World(World&&) noexcept;
+  World& operator=(World&&) noexcept;
 
   BodyId createBody(const BodyDef& def);
   void destroyBody(BodyId id);

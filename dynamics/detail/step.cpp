@@ -284,8 +284,8 @@ void World::Impl::inChunks(size_t count, size_t perChunk,
     task(c * perChunk, std::min(count, (c + 1) * perChunk), c);
   };
   if (def.workerThreads > 1 && chunks > 1) {
-    if (!workers) workers = std::make_unique<detail::Workers>(def.workerThreads);
-    workers->run(static_cast<int>(chunks), one);
+    if (!workers.pool) workers.pool = std::make_unique<detail::Workers>(def.workerThreads);
+    workers.pool->run(static_cast<int>(chunks), one);
   } else {
     for (size_t c = 0; c < chunks; ++c) one(static_cast<int>(c));
   }

@@ -62,6 +62,20 @@ World::World(const WorldDef& def) : impl_(std::make_unique<Impl>()) {
 
 World::~World() = default;
 
+World::World(const World& other) : impl_(std::make_unique<Impl>(*other.impl_)) {}
+
+World& World::operator=(const World& other) {
+  if (this == &other) return *this;
+  auto copy = std::make_unique<Impl>(*other.impl_);  // all or nothing: ours stays if this throws
+  if (impl_ && copy->def.workerThreads == impl_->def.workerThreads)
+    copy->workers.pool = std::move(impl_->workers.pool);  // keep our threads
+  impl_ = std::move(copy);
+  return *this;
+}
+
+World::World(World&&) noexcept = default;
+World& World::operator=(World&&) noexcept = default;
+
 Body& World::Impl::body(BodyId id, const char* field) {
   if (id.isNull()) throw Error(field, "null body id");
   if (id.index >= bodies.size() || !bodies[id.index].alive ||

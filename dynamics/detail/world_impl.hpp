@@ -242,7 +242,16 @@ struct World::Impl {
   std::vector<std::pair<uint32_t, uint32_t>> pairs;
   std::vector<Manifold> scratch;  // for queries
   std::vector<detail::NarrowphaseChunk> narrowphaseChunks;
-  std::unique_ptr<detail::Workers> workers;  // made on first use when def.workerThreads > 1
+  // Made on first use when def.workerThreads > 1. Threads are no part of the state: a copy of
+  // the world starts without them.
+  struct OwnWorkers {
+    std::unique_ptr<detail::Workers> pool;
+    OwnWorkers() = default;
+    OwnWorkers(const OwnWorkers&) {}
+    OwnWorkers& operator=(const OwnWorkers&) = delete;
+    OwnWorkers(OwnWorkers&&) = default;
+    OwnWorkers& operator=(OwnWorkers&&) = default;
+  } workers;
 
   std::vector<detail::ContactManifold> contacts;  // sorted by key
   std::vector<detail::ContactManifold> previous;
