@@ -10,13 +10,18 @@ using namespace grip;
 namespace {
 
 // Builds a pile and lets it settle first, so each timed step is a resting pile.
-void BM_World_RestingPile(benchmark::State& state) {
+World restingPile(int count) {
   WorldDef def;
   def.enableSleep = false;  // measure the solver at rest, not sleeping
   World w(def);
   scenes::addGround(w);
-  scenes::addBoxPile(w, static_cast<int>(state.range(0)));
+  scenes::addBoxPile(w, count);
   for (int i = 0; i < 240; ++i) w.step(1.0 / 60.0);
+  return w;
+}
+
+void BM_World_RestingPile(benchmark::State& state) {
+  World w = restingPile(static_cast<int>(state.range(0)));
   for (auto _ : state) w.step(1.0 / 60.0);
   state.counters["contacts"] = w.stats().contactPoints;
 }
@@ -63,17 +68,10 @@ void BM_World_PileDrop(benchmark::State& state) {
 }
 BENCHMARK(BM_World_PileDrop)->Arg(1000)->Unit(benchmark::kMillisecond)->Iterations(3);
 
-}  // namespace
-
 // A snapshot: copying a world with a resting pile (bodies, contacts, warm-start impulses) and
 // assigning it back, as a rollback would. Against one step of the same pile above.
 void BM_World_Snapshot(benchmark::State& state) {
-  WorldDef def;
-  def.enableSleep = false;
-  World w(def);
-  scenes::addGround(w);
-  scenes::addBoxPile(w, static_cast<int>(state.range(0)));
-  for (int i = 0; i < 240; ++i) w.step(1.0 / 60.0);
+  const World w = restingPile(static_cast<int>(state.range(0)));
   World saved(w);
   for (auto _ : state) {
     saved = w;
@@ -82,3 +80,5 @@ void BM_World_Snapshot(benchmark::State& state) {
   state.counters["contacts"] = w.stats().contactPoints;
 }
 BENCHMARK(BM_World_Snapshot)->Arg(100)->Arg(1000)->Unit(benchmark::kMicrosecond);
+
+}  // namespace
