@@ -384,9 +384,11 @@ bool solveSmall(const double (&a)[3][3], const double* r, int n, double* x) {
 
 // The normal impulses of a manifold's rigid rows solved exactly for a guessed set of pushing
 // points (those pushing already or closing faster than allowed; at most three, as four points
-// of a face go to the patch solve): the others let go, the pushing ones solved together. True,
-// with `delta` set, if the guess holds: every pushing point still pushes, and no let-go point
-// closes faster than its bias allows.
+// of a face go to the patch solve): the others, which hold no impulse and do not close, stay
+// let go, the pushing ones solved together. True, with `delta` set, if every pushing point
+// still pushes. A let-go point that the others' impulses make close is not taken back here (the
+// next pass does): taking it back, or letting pulling points go and solving again until the set
+// holds, made the 18-layer Jenga tower drift 0.23-0.27 mm where the test allows 0.1 mm.
 template <int N>
 bool solveNormalActive(const SolverManifold& m, const double (*K)[4], const double* vn,
                        const double* bias, double* delta) {
@@ -408,12 +410,6 @@ bool solveNormalActive(const SolverManifold& m, const double (*K)[4], const doub
   for (int i = 0; i < na; ++i) {
     if (m.impulse[active[i]] + x[i] < 0.0) return false;
     delta[active[i]] = x[i];
-  }
-  for (int k = 0; k < N; ++k) {
-    if (delta[k] != -m.impulse[k] || m.impulse[k] == 0.0) continue;
-    double v = vn[k] + bias[k];
-    for (int j = 0; j < N; ++j) v += K[k][j] * delta[j];
-    if (v < -1e-9) return false;
   }
   return true;
 }
