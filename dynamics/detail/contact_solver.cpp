@@ -386,9 +386,10 @@ bool solveSmall(const double (&a)[3][3], const double* r, int n, double* x) {
 // points (those pushing already or closing faster than allowed; at most three, as four points
 // of a face go to the patch solve): the others, which hold no impulse and do not close, stay
 // let go, the pushing ones solved together. True, with `delta` set, if every pushing point
-// still pushes. A let-go point that the others' impulses make close is not taken back here (the
-// next pass does): taking it back, or letting pulling points go and solving again until the set
-// holds, made the 18-layer Jenga tower drift 0.23-0.27 mm where the test allows 0.1 mm.
+// still pushes. A let-go point that the others' impulses make close waits for the next pass.
+// (Letting the pulling points go and solving again until the set holds, with or without
+// taking back let-go points that close, made the 18-layer Jenga tower drift 0.23-0.27 mm
+// where its test allows 0.1 mm: docs/performance.md.)
 template <int N>
 bool solveNormalActive(const SolverManifold& m, const double (*K)[4], const double* vn,
                        const double* bias, double* delta) {
