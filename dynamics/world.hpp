@@ -74,7 +74,9 @@ struct WorldDef {
   double contactDampingRatio = 10.0;  // heavily damped: no bounce from position correction
   double maxPushoutVelocity = 3.0;    // m/s, cap on the speed that resolves overlap
   double restitutionThreshold = 1.0;  // m/s, slower impacts do not bounce
-  double speculativeDistance = 0.02;  // m, contacts made this far before touching
+  // m, contacts are made this much farther out than the pair's speed, acceleration and spin
+  // can close in a step (docs/dynamics.md)
+  double speculativeDistance = 0.0075;
   // A convex pair that moved less than this (B relative to A) since its manifold was computed
   // carries the manifold along instead of running the narrowphase (Jolt's body pair cache).
   double contactReuseDistance = 0.001;  // m; 0 always recomputes

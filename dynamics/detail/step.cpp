@@ -110,6 +110,12 @@ double turnTravel(const Body& b, double dt) {
   return travel < 1.0 ? travel : 1.0;
 }
 
+// What accelerates the body this step before any contact: gravity and the applied force.
+Vec3 accelerationOf(const Body& b, const Vec3& gravity) {
+  if (!b.isDynamic()) return Vec3::Zero();
+  return b.gravityScale * gravity + b.invMass * b.force;
+}
+
 bool carriesOver(const std::vector<Body>& bodies, const ContactManifold& c) {
   // Contacts among sleeping and static bodies are not recomputed; keep them as they were.
   const Body &a = bodies[c.bodyA], &b = bodies[c.bodyB];
@@ -126,13 +132,16 @@ bool World::Impl::collide(double dt) {
     if (!b.alive) continue;
     const bool active = b.awake && b.type != BodyType::Static;
     b.turnTravel = active ? turnTravel(b, dt) : 0.0;
+    b.acceleration = active ? accelerationOf(b, def.gravity) : Vec3::Zero();
     if (active) {
       // b.aabb is current: every pose change (createBody, setPose, the solver's write-back)
       // refreshes it. Grow it by the speculative distance and by the motion of this step.
       Aabb box = b.aabb.inflated(def.speculativeDistance + b.turnTravel);
-      const Vec3 travel = b.v * dt;
-      box.min += travel.cwiseMin(Vec3::Zero());
-      box.max += travel.cwiseMax(Vec3::Zero());
+      // Its travel lies between the speed it has and the speed it gains (v dt + a dt^2 bounds a
+      // substepped Euler step's).
+      const Vec3 now = b.v * dt, gained = (b.v + b.acceleration * dt) * dt;
+      box.min += now.cwiseMin(gained).cwiseMin(Vec3::Zero());
+      box.max += now.cwiseMax(gained).cwiseMax(Vec3::Zero());
       proxyBoxes.push_back(box);
     } else {
       proxyBoxes.push_back(b.aabb);
@@ -226,9 +235,12 @@ void World::Impl::narrowphase(size_t begin, size_t end, double dt,
                            (isPolytope(*A.shape) || isPolytope(*B.shape));
     const Transform relative = carriable ? A.pose.inverse() * B.pose : Transform{};
     // Speculative margin: the contact is made early enough to stop this step's approach, by
-    // their relative motion (two bodies falling side by side do not close) and their turns (the
-    // tip of a spinning plank closes at its spin times its length).
-    const double approach = (B.v - A.v).norm() * dt + A.turnTravel + B.turnTravel;
+    // their relative motion (two bodies falling side by side do not close), the speed gravity and
+    // applied forces add within the step (a box at rest above the floor falls g dt^2 towards it)
+    // and their turns (the tip of a spinning plank closes at its spin times its length).
+    const double approach = (B.v - A.v).norm() * dt +
+                            (B.acceleration - A.acceleration).norm() * dt * dt + A.turnTravel +
+                            B.turnTravel;
     const double margin = def.speculativeDistance + std::min(approach, 1.0);
     // Not when the margin has grown by half the speculative distance or more: a point it left
     // out could then close this step (it was farther than the old margin, less the pair's

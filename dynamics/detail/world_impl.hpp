@@ -48,6 +48,7 @@ struct Body {
   Aabb aabb;
   int solverIndex = 0;      // index into the step's solver bodies (0: the static body)
   double turnTravel = 0.0;  // m, how far its points can move by turning this step (collide)
+  Vec3 acceleration = Vec3::Zero();  // from gravity and the applied force this step (collide)
 
   bool isDynamic() const { return type == BodyType::Dynamic; }
   // Its calm time starts again, from where it is now.
