@@ -1061,11 +1061,7 @@ void World::Impl::prepareRows(SolverManifold& m) {
   m.rowsReady = true;
 }
 
-namespace {
-
-// A vector no longer than `max`, in its own direction; infinite parts count as the largest
-// (a sum of huge but finite forces can overflow, and inf * 0 must not become NaN).
-Vec3 limitLength(const Vec3& v, double max) {
+Vec3 detail::limitLength(const Vec3& v, double max) {
   if (!v.allFinite()) {
     Vec3 d = Vec3::Zero();
     for (int i = 0; i < 3; ++i) d[i] = std::isinf(v[i]) ? std::copysign(1.0, v[i]) : 0.0;
@@ -1075,16 +1071,12 @@ Vec3 limitLength(const Vec3& v, double max) {
   return length > max ? Vec3(v * (max / length)) : v;
 }
 
-// Forces so large that F/m or I^-1 T would overflow are scaled down first: the speed limit
-// caps what they do anyway.
-Vec3 tameLoad(const Vec3& x) {
+Vec3 detail::tameLoad(const Vec3& x) {
   constexpr double kLargest = 1e100;
   if (!x.allFinite()) return limitLength(x, kLargest);
   const double m = x.lpNorm<Eigen::Infinity>();
   return m > kLargest ? Vec3(x * (kLargest / m)) : x;
 }
-
-}  // namespace
 
 void World::Impl::integrateVelocities(double h) {
   for (size_t k = 0; k < awakeBodies.size(); ++k) {
@@ -1096,18 +1088,17 @@ void World::Impl::integrateVelocities(double h) {
     if (b.force.isZero() && b.linearAccel.isZero()) {
       s.v += h * (b.gravityScale * def.gravity);
     } else {
-      s.v += h * (b.invMass * tameLoad(b.force) + b.gravityScale * def.gravity +
-                  tameLoad(b.linearAccel));
+      s.v += h * b.loadAcceleration(def.gravity);
     }
     if (!b.torque.isZero() || !b.angularAccel.isZero()) {
       const Mat3 R = (s.dq * b.pose.q).toRotationMatrix();
-      s.w += h * (R * (b.invInertiaLocal * (R.transpose() * tameLoad(b.torque))) +
-                  tameLoad(b.angularAccel));
+      s.w += h * (R * (b.invInertiaLocal * (R.transpose() * detail::tameLoad(b.torque))) +
+                  detail::tameLoad(b.angularAccel));
     }
     if (b.linearDamping != 0.0) s.v *= 1.0 / (1.0 + h * b.linearDamping);
     if (b.angularDamping != 0.0) s.w *= 1.0 / (1.0 + h * b.angularDamping);
-    if (!(s.v.norm() <= def.maxLinearSpeed)) s.v = limitLength(s.v, def.maxLinearSpeed);
-    if (!(s.w.norm() <= def.maxAngularSpeed)) s.w = limitLength(s.w, def.maxAngularSpeed);
+    if (!(s.v.norm() <= def.maxLinearSpeed)) s.v = detail::limitLength(s.v, def.maxLinearSpeed);
+    if (!(s.w.norm() <= def.maxAngularSpeed)) s.w = detail::limitLength(s.w, def.maxAngularSpeed);
   }
 }
 

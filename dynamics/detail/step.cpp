@@ -110,10 +110,13 @@ double turnTravel(const Body& b, double dt) {
   return travel < 1.0 ? travel : 1.0;
 }
 
-// What accelerates the body this step before any contact: gravity and the applied force.
-Vec3 accelerationOf(const Body& b, const Vec3& gravity) {
+// What accelerates the body this step before any contact, capped at 1 m of travel in the step
+// as the margin is.
+Vec3 accelerationOf(const Body& b, const Vec3& gravity, double dt) {
   if (!b.isDynamic()) return Vec3::Zero();
-  return b.gravityScale * gravity + b.invMass * b.force;
+  const Vec3 a = b.loadAcceleration(gravity);
+  const double most = 1.0 / (dt * dt);
+  return a.norm() <= most ? a : detail::limitLength(a, most);
 }
 
 bool carriesOver(const std::vector<Body>& bodies, const ContactManifold& c) {
@@ -132,7 +135,7 @@ bool World::Impl::collide(double dt) {
     if (!b.alive) continue;
     const bool active = b.awake && b.type != BodyType::Static;
     b.turnTravel = active ? turnTravel(b, dt) : 0.0;
-    b.acceleration = active ? accelerationOf(b, def.gravity) : Vec3::Zero();
+    b.acceleration = active ? accelerationOf(b, def.gravity, dt) : Vec3::Zero();
     if (active) {
       // b.aabb is current: every pose change (createBody, setPose, the solver's write-back)
       // refreshes it. Grow it by the speculative distance and by the motion of this step.

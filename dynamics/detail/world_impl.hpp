@@ -15,6 +15,13 @@
 
 namespace grip::detail {
 
+// A vector no longer than `max`, in its own direction; infinite parts count as the largest
+// (a sum of huge but finite forces can overflow, and inf * 0 must not become NaN).
+Vec3 limitLength(const Vec3& v, double max);
+// Loads so large that F/m or I^-1 T would overflow, scaled down first: the speed limit caps
+// what they do anyway.
+Vec3 tameLoad(const Vec3& x);
+
 struct Body {
   uint32_t generation = 0;  // bumped each time the slot is reused; ids carry it
   bool alive = false;
@@ -48,9 +55,13 @@ struct Body {
   Aabb aabb;
   int solverIndex = 0;      // index into the step's solver bodies (0: the static body)
   double turnTravel = 0.0;  // m, how far its points can move by turning this step (collide)
-  Vec3 acceleration = Vec3::Zero();  // from gravity and the applied force this step (collide)
+  Vec3 acceleration = Vec3::Zero();  // from gravity and the applied loads this step (collide)
 
   bool isDynamic() const { return type == BodyType::Dynamic; }
+  // What accelerates it before any contact: gravity and the applied loads (tamed).
+  Vec3 loadAcceleration(const Vec3& gravity) const {
+    return invMass * tameLoad(force) + gravityScale * gravity + tameLoad(linearAccel);
+  }
   // Its calm time starts again, from where it is now.
   void restartCalm() {
     sleepTime = 0.0;
