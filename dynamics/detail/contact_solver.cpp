@@ -1085,11 +1085,7 @@ void World::Impl::integrateVelocities(double h) {
     if (!b.isDynamic()) continue;
     // Most bodies feel gravity only: the loads, the damping and the limits are skipped where
     // they would change nothing (adding a zero load, scaling by 1, a speed within the limit).
-    if (b.force.isZero() && b.linearAccel.isZero()) {
-      s.v += h * (b.gravityScale * def.gravity);
-    } else {
-      s.v += h * b.loadAcceleration(def.gravity);
-    }
+    s.v += h * b.loadAcceleration(def.gravity);
     if (!b.torque.isZero() || !b.angularAccel.isZero()) {
       const Mat3 R = (s.dq * b.pose.q).toRotationMatrix();
       s.w += h * (R * (b.invInertiaLocal * (R.transpose() * detail::tameLoad(b.torque))) +

@@ -114,9 +114,7 @@ double turnTravel(const Body& b, double dt) {
 // as the margin is.
 Vec3 accelerationOf(const Body& b, const Vec3& gravity, double dt) {
   if (!b.isDynamic()) return Vec3::Zero();
-  const Vec3 a = b.loadAcceleration(gravity);
-  const double most = 1.0 / (dt * dt);
-  return a.norm() <= most ? a : detail::limitLength(a, most);
+  return detail::limitLength(b.loadAcceleration(gravity), 1.0 / (dt * dt));
 }
 
 bool carriesOver(const std::vector<Body>& bodies, const ContactManifold& c) {

@@ -58,8 +58,10 @@ struct Body {
   Vec3 acceleration = Vec3::Zero();  // from gravity and the applied loads this step (collide)
 
   bool isDynamic() const { return type == BodyType::Dynamic; }
-  // What accelerates it before any contact: gravity and the applied loads (tamed).
+  // What accelerates it before any contact: gravity and the applied loads (tamed). Most bodies
+  // feel gravity only, and skip the taming.
   Vec3 loadAcceleration(const Vec3& gravity) const {
+    if (force.isZero() && linearAccel.isZero()) return gravityScale * gravity;
     return invMass * tameLoad(force) + gravityScale * gravity + tameLoad(linearAccel);
   }
   // Its calm time starts again, from where it is now.
