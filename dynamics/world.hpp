@@ -89,8 +89,9 @@ struct WorldDef {
   double timeToSleep = 0.5;            // s below the thresholds before an island sleeps
   double maxLinearSpeed = 400.0;       // m/s, a guard against blow-ups
   double maxAngularSpeed = 200.0;      // rad/s, the same for spin (PhysX: 100, Jolt: 47)
-  // Threads a step may use, the caller's included (1..64). The narrowphase and the contact
-  // preparation are shared out; the result is bit-identical for any count (docs/performance.md).
+  // Threads a step may use, the caller's included (1..64). The narrowphase is shared out, and
+  // with 256 awake bodies or more the solve runs in two regions on two threads; the result is
+  // bit-identical for any count (docs/performance.md).
   int workerThreads = 1;
 };
 
@@ -125,6 +126,7 @@ struct StepStats {
   int islands = 0;
   int sleepingIslands = 0;
   int directIslands = 0;  // islands of very unequal masses whose normals were solved directly
+  int solveRegions = 1;   // 2 when the awake bodies were cut in two for the solve (workerThreads)
 };
 
 class World {

@@ -8,6 +8,8 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <numeric>
+#include <span>
 
 #include <Eigen/Cholesky>
 
@@ -17,6 +19,9 @@ namespace grip {
 
 using detail::Body;
 using detail::ContactManifold;
+using detail::kAcross;
+using detail::kNoRegion;
+using detail::kRegionBodies;
 using detail::SolverBody;
 using detail::SolverManifold;
 using detail::SolverRow;
@@ -51,6 +56,10 @@ struct SolveContext {
   double restingSpeed = 0.0;  // a body slower than this on its support rests (the load pass)
   double supportSpeed = 0.0;  // faster across a contact, a body is no support (shock pass)
   Softness soft, staticSoft, anchorSoft;
+  int worldTwin = 0;  // region 1's world (World::Impl::splitRegions)
+  bool onWorld(const SolverManifold& m) const {
+    return m.a == 0 || m.b == 0 || m.a == worldTwin || m.b == worldTwin;
+  }
 };
 
 // Which bodies a solve may move. Shock propagation freezes the body nearer the ground.
@@ -465,7 +474,7 @@ bool solveNormalN(SolverManifold& m, SolverBody& A, SolverBody& B, const SolveCo
   const Vec3& n = m.normal;
   const double linearVelocity = n.dot(B.v - A.v), linearShift = n.dot(B.dp - A.dp);
   if (idleByBounds(m, A, B, ctx, useBias, linearVelocity, linearShift)) return false;
-  const Softness& soft = (m.a == 0 || m.b == 0) ? ctx.staticSoft : ctx.soft;
+  const Softness& soft = ctx.onWorld(m) ? ctx.staticSoft : ctx.soft;
   // The basis velocities, and the basis displacements since the step began.
   double g[3];
   basisVelocity(m, A, B, linearVelocity, g);
@@ -669,7 +678,7 @@ void solveIslandNormals(std::vector<SolverManifold>& manifolds, std::vector<Solv
     const SolverRow& r = rows[i].row;
     const SolverBody &A = bodies[m.a], &B = bodies[m.b];
     for (int j = 0; j < n; ++j) K(i, j) = coupling(m, r, *rows[j].m, rows[j].row, bodies);
-    const Softness& soft = (m.a == 0 || m.b == 0) ? ctx.staticSoft : ctx.soft;
+    const Softness& soft = ctx.onWorld(m) ? ctx.staticSoft : ctx.soft;
     const double sep = m.separation[rows[i].point] + r.lin.dot(B.dp - A.dp) + r.angB.dot(B.dtheta) -
                        r.angA.dot(A.dtheta);
     double b = 0.0, massScale = 1.0, impulseScale = 0.0;
@@ -786,6 +795,18 @@ double combineFriction(double a, double b) {
 
 }  // namespace
 
+template <class Work>
+void World::Impl::inBothRegions(const Work& work) {
+  if (def.workerThreads > 1 && worldTwin != 0) {
+    if (!workers.pool) workers.pool = std::make_unique<detail::Workers>(def.workerThreads);
+    workers.pool->runEach([&work](int thread) {  // (small enough for std::function's own store)
+      if (thread < 2) work(thread);
+    });
+  } else {
+    work(0), work(1);
+  }
+}
+
 void World::Impl::solve(double dt) {
   const int substeps = def.substeps;
   const double h = dt / substeps;
@@ -807,8 +828,18 @@ void World::Impl::solve(double dt) {
     awakeBodies.push_back(i);
   }
 
+  splitRegions();
   prepareContacts();
   computeLevels();
+  // The shock order within each region (ground up), then across.
+  shockEnd[0] = static_cast<int>(
+      std::stable_partition(shockOrder.begin(), shockOrder.end(),
+                            [&](int i) { return solverManifolds[i].region == 0; }) -
+      shockOrder.begin());
+  shockEnd[1] = static_cast<int>(
+      std::stable_partition(shockOrder.begin() + shockEnd[0], shockOrder.end(),
+                            [&](int i) { return solverManifolds[i].region == 1; }) -
+      shockOrder.begin());
   auto most = [](const std::vector<int>& v) {
     return v.empty() ? 0 : *std::max_element(v.begin(), v.end());
   };
@@ -825,6 +856,7 @@ void World::Impl::solve(double dt) {
   ctx.soft = makeSoft(hertz, def.contactDampingRatio, h);
   ctx.staticSoft = makeSoft(2.0 * hertz, def.contactDampingRatio, h);
   ctx.anchorSoft = makeSoft(2.0 * hertz, def.contactDampingRatio, h);
+  ctx.worldTwin = worldTwin;
 
   auto solveDirectIslands = [&](const SolveContext& c, bool useBias) {
     for (size_t i = 0; i < directManifolds.size(); ++i) {
@@ -846,28 +878,77 @@ void World::Impl::solve(double dt) {
     return true;
   };
 
+  // Region r's bodies, manifolds and shock order (r = kAcross: the manifolds across the cut).
+  const int manifoldCount = static_cast<int>(solverManifolds.size());
+  auto bodiesOf = [&](int r) {
+    return std::span<const int>(regionBodies)
+        .subspan(r == 0 ? 0 : regionBodyEnd,
+                 r == 0 ? regionBodyEnd : regionBodies.size() - regionBodyEnd);
+  };
+  auto manifoldsOf = [&](int r, auto&& each) {
+    const int begin = r == 0 ? 0 : manifoldEnd[r - 1];
+    const int end = r == kAcross ? manifoldCount : manifoldEnd[r];
+    for (int i = begin; i < end; ++i) each(i);
+  };
+  auto shocksOf = [&](int r, auto&& each) {
+    const int begin = r == 0 ? 0 : shockEnd[r - 1];
+    const int end = r == kAcross ? manifoldCount : shockEnd[r];
+    for (int k = begin; k < end; ++k) each(shockOrder[k]);
+  };
+
   for (int sub = 0; sub < substeps; ++sub) {
-    integrateVelocities(h);
-    warmStart(sub);
-    for (size_t i = 0; i < solverManifolds.size(); ++i)
-      if (ready(i, true)) solveManifold(solverManifolds[i], solverBodies, ctx, true);
+    inBothRegions([&](int r) {
+      for (int k : bodiesOf(r)) {
+        SolverBody& b = solverBodies[k + 1];
+        // What the contacts did last substep, for this one's warm start (warmStart).
+        if (sub > 0) b.heldV += b.v - b.startV, b.heldW += b.w - b.startW;
+        integrateVelocity(k, h);
+        warmStart(b, sub);
+      }
+    });
+    if (sub == 0)  // a manifold without rows holds no impulse
+      manifoldsOf(kAcross, [&](int i) {
+        SolverManifold& m = solverManifolds[i];
+        if (m.rowsReady) warmStartManifold(m, solverBodies[m.a], solverBodies[m.b]);
+      });
+    auto biasedPass = [&](int r) {
+      manifoldsOf(r, [&](int i) {
+        if (ready(i, true)) solveManifold(solverManifolds[i], solverBodies, ctx, true);
+      });
+    };
+    inBothRegions([&](int r) {
+      if (sub == 0)
+        manifoldsOf(r, [&](int i) {
+          SolverManifold& m = solverManifolds[i];
+          if (m.rowsReady) warmStartManifold(m, solverBodies[m.a], solverBodies[m.b]);
+        });
+      biasedPass(r);
+    });
+    biasedPass(kAcross);
     solveDirectIslands(ctx, true);
-    integratePositions(h);
     // Relax passes; each island runs its own number of them (computeLevels), and its last
     // one is a shock propagation pass (Guendelman et al. 2003): from the ground up, each
     // contact moves only the body farther from the ground, so a stack's support reaches its
     // top within one pass instead of diffusing slowly.
     const std::vector<int>& passes = sub == 0 ? firstSubstepPasses : relaxPasses;
-    for (int r = 0; r < (sub == 0 ? maxFirstPasses : maxRelaxPasses); ++r) {
-      for (size_t i = 0; i < solverManifolds.size(); ++i)
-        if (passes[i] > r + 1 && ready(i, false))
-          solveManifold(solverManifolds[i], solverBodies, ctx, false);
-      for (int i : shockOrder) {
-        if (passes[i] != r + 1 || !ready(i, false)) continue;
-        SolverManifold& m = solverManifolds[i];
-        solveManifold(m, solverBodies, ctx, false, shockMoves(m, solverBodies, ctx));
+    auto relax = [&](int r) {
+      for (int pass = 0; pass < (sub == 0 ? maxFirstPasses : maxRelaxPasses); ++pass) {
+        manifoldsOf(r, [&](int i) {
+          if (passes[i] > pass + 1 && ready(i, false))
+            solveManifold(solverManifolds[i], solverBodies, ctx, false);
+        });
+        shocksOf(r, [&](int i) {
+          if (passes[i] != pass + 1 || !ready(i, false)) return;
+          SolverManifold& m = solverManifolds[i];
+          solveManifold(m, solverBodies, ctx, false, shockMoves(m, solverBodies, ctx));
+        });
       }
-    }
+    };
+    inBothRegions([&](int r) {
+      for (int k : bodiesOf(r)) integratePosition(k, h);
+      relax(r);
+    });
+    relax(kAcross);
     // The load pass, from the top down: a body resting on one support alone takes back the
     // reactions the shock passes held from it (the loads of the bodies above), and where that
     // support stops it again as it was, the impulses carry the load down to the ground in
@@ -892,56 +973,124 @@ void World::Impl::solve(double dt) {
       if (islandRefused[it->island]) undoLoadStep(*it, solverManifolds, solverBodies);
     for (int island : soleSupportIslands) islandRefused[island] = 0;
     solveDirectIslands(ctx, false);
-    if (sub + 1 < substeps)  // what the contacts did this substep, for the next warm start
-      for (SolverBody& b : solverBodies) b.heldV += b.v - b.startV, b.heldW += b.w - b.startW;
   }
 
-  applyRestitution();
-  projectPositions();
-  storeImpulses();
-  for (size_t k = 0; k < awakeBodies.size(); ++k) {  // write the bodies back
-    Body& b = bodies[awakeBodies[k]];
-    const SolverBody& s = solverBodies[k + 1];
-    b.v = s.v, b.w = s.w;
-    b.com += s.dp;
-    b.pose.q = (s.dq * b.pose.q).normalized();
-    b.pose.p = b.com - b.pose.q * b.localCom;
-    refreshBounds(b);
+  // Restitution, the position projection (its passes from the ground up), the impulses kept
+  // for the next step, and the bodies written back.
+  auto restitute = [&](int i) { applyRestitution(solverManifolds[i]); };
+  inBothRegions([&](int r) { manifoldsOf(r, restitute); });
+  manifoldsOf(kAcross, restitute);
+  auto project = [&](int i) { projectPosition(solverManifolds[i]); };
+  for (int it = 0; it < def.positionIterations; ++it) {
+    inBothRegions([&](int r) { shocksOf(r, project); });
+    shocksOf(kAcross, project);
   }
+  auto store = [&](int i) { storeImpulses(solverManifolds[i]); };
+  inBothRegions([&](int r) {
+    manifoldsOf(r, store);
+    if (r == 0) manifoldsOf(kAcross, store);
+    for (int k : bodiesOf(r)) {
+      SolverBody& s = solverBodies[k + 1];
+      if (!s.correction.isZero()) s.dq = integrateRotation(s.dq, s.correction, 1.0);
+      Body& b = bodies[awakeBodies[k]];
+      b.v = s.v, b.w = s.w;
+      b.com += s.dp;
+      b.pose.q = (s.dq * b.pose.q).normalized();
+      b.pose.p = b.com - b.pose.q * b.localCom;
+      refreshBounds(b);
+    }
+  });
 }
 
 // The warm start: the accumulated impulses applied again. A substep's impulses add up to the
 // accumulated impulses it ends with, which are what the next substep applies again; so from
 // the second substep on, each body gets the velocity change the contacts gave it in the
 // substep before (kept in heldV, heldW) instead of a pass over every manifold's rows, which
-// was 8 % of a 1000-box pile's step, bound by memory. The same up to rounding.
-void World::Impl::warmStart(int substep) {
-  for (SolverBody& b : solverBodies) {
-    b.startV = b.v, b.startW = b.w;
-    if (substep > 0) b.v += b.heldV, b.w += b.heldW;
-    b.heldV.setZero(), b.heldW.setZero();
+// was 8 % of a 1000-box pile's step, bound by memory. The same up to rounding. (The first
+// substep applies the manifolds' impulses: solve.)
+void World::Impl::warmStart(SolverBody& b, int substep) {
+  b.startV = b.v, b.startW = b.w;
+  if (substep > 0) b.v += b.heldV, b.w += b.heldW;
+  b.heldV.setZero(), b.heldW.setZero();
+}
+
+// Regions: with many awake bodies, the passes' work is cut in two halves, at the median of
+// the bodies' centres along their widest extent, and each half's manifolds are solved on
+// their own thread (solve); a manifold across the cut waits for both. The order is the same
+// with one thread as with two, so the result is too. Fewer bodies stay one region (the
+// order of the solve as it was before regions).
+void World::Impl::splitRegions() {
+  const size_t n = awakeBodies.size();
+  solverRegion.assign(solverBodies.size(), kNoRegion);
+  regionBodies.resize(n);
+  worldTwin = 0;
+  stats.solveRegions = n < kRegionBodies ? 1 : 2;
+  if (n < kRegionBodies) {
+    std::iota(regionBodies.begin(), regionBodies.end(), 0);
+    regionBodyEnd = static_cast<int>(n);
+    std::fill(solverRegion.begin() + 1, solverRegion.end(), uint8_t{0});
+    return;
   }
-  if (substep == 0)
-    for (SolverManifold& m : solverManifolds)  // a manifold without rows holds no impulse
-      if (m.rowsReady) warmStartManifold(m, solverBodies[m.a], solverBodies[m.b]);
+  Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
+  for (uint32_t slot : awakeBodies) {
+    lo = lo.cwiseMin(bodies[slot].com);
+    hi = hi.cwiseMax(bodies[slot].com);
+  }
+  int axis = 0;
+  (hi - lo).maxCoeff(&axis);
+  static thread_local std::vector<double> along, sorted;
+  along.resize(n);
+  for (size_t k = 0; k < n; ++k) along[k] = bodies[awakeBodies[k]].com[axis];
+  sorted = along;
+  std::nth_element(sorted.begin(), sorted.begin() + static_cast<long>(n / 2), sorted.end());
+  const double median = sorted[n / 2];
+  int next = 0;
+  for (int region = 0; region < 2; ++region) {
+    for (size_t k = 0; k < n; ++k) {
+      if ((along[k] < median) != (region == 0)) continue;
+      regionBodies[next++] = static_cast<int>(k);
+      solverRegion[k + 1] = static_cast<uint8_t>(region);
+    }
+    if (region == 0) regionBodyEnd = next;
+  }
+  // Region 1's own immovable world: the bodies resting on the ground in both regions would
+  // otherwise write (zeros) to one world body from both threads.
+  worldTwin = static_cast<int>(solverBodies.size());
+  solverBodies.emplace_back();
+  solverRegion.push_back(kNoRegion);
 }
 
 void World::Impl::prepareContacts() {
-  // The contacts with a body that moves take part; each is prepared on its own (in chunks on
-  // the workers, see workers.hpp).
+  // The contacts with a body that moves take part, region 0's first, then region 1's, then
+  // those across the cut (each group in key order); each is prepared on its own.
   // The list keeps its manifolds from the last step (1.7 KB each, not built anew): each field
   // is set again by prepareManifold.
-  size_t count = 0;
+  static thread_local std::vector<int> byRegion[3];
+  for (std::vector<int>& list : byRegion) list.clear();
   for (size_t ci = 0; ci < contacts.size(); ++ci) {
     const Body &A = bodies[contacts[ci].bodyA], &B = bodies[contacts[ci].bodyB];
     if (A.solverIndex == 0 && B.solverIndex == 0) continue;
     if (!A.isDynamic() && !B.isDynamic()) continue;
-    if (count == solverManifolds.size()) solverManifolds.emplace_back();
-    solverManifolds[count++].source = static_cast<int>(ci);
+    const uint8_t ra = solverRegion[A.solverIndex], rb = solverRegion[B.solverIndex];
+    const uint8_t region = ra == kNoRegion ? rb : rb == kNoRegion || ra == rb ? ra : kAcross;
+    byRegion[region].push_back(static_cast<int>(ci));
   }
-  solverManifolds.resize(count);
-  inChunks(solverManifolds.size(), 32, [&](size_t begin, size_t end, size_t) {
-    for (size_t i = begin; i < end; ++i) prepareManifold(solverManifolds[i]);
+  solverManifolds.resize(byRegion[0].size() + byRegion[1].size() + byRegion[2].size());
+  size_t count = 0;
+  for (uint8_t region = 0; region < 3; ++region) {
+    for (int ci : byRegion[region]) {
+      solverManifolds[count].source = ci;
+      solverManifolds[count++].region = region;
+    }
+    if (region < 2) manifoldEnd[region] = static_cast<int>(count);
+  }
+  // Each region's thread prepares the manifolds it solves (the first one those across too).
+  inBothRegions([&](int region) {
+    const int begin = region == 0 ? 0 : manifoldEnd[0], end = manifoldEnd[region];
+    for (int i = begin; i < end; ++i) prepareManifold(solverManifolds[i]);
+    if (region == 0)
+      for (size_t i = manifoldEnd[1]; i < solverManifolds.size(); ++i)
+        prepareManifold(solverManifolds[i]);
   });
   int points = 0;
   for (const SolverManifold& m : solverManifolds) points += m.count;
@@ -955,6 +1104,7 @@ void World::Impl::prepareManifold(SolverManifold& m) {
   ContactManifold& c = contacts[m.source];
   const Body &A = bodies[c.bodyA], &B = bodies[c.bodyB];
   m.a = A.solverIndex, m.b = B.solverIndex;
+  if (m.region == 1) m.a = m.a == 0 ? worldTwin : m.a, m.b = m.b == 0 ? worldTwin : m.b;
   const Vec3 n = c.m.normal;
   m.normal = n;
   m.staticFriction = combineFriction(A.material.staticFriction, B.material.staticFriction);
@@ -1078,24 +1228,22 @@ Vec3 detail::tameLoad(const Vec3& x) {
   return m > kLargest ? Vec3(x * (kLargest / m)) : x;
 }
 
-void World::Impl::integrateVelocities(double h) {
-  for (size_t k = 0; k < awakeBodies.size(); ++k) {
-    const Body& b = bodies[awakeBodies[k]];
-    SolverBody& s = solverBodies[k + 1];
-    if (!b.isDynamic()) continue;
-    // Most bodies feel gravity only: the loads, the damping and the limits are skipped where
-    // they would change nothing (adding a zero load, scaling by 1, a speed within the limit).
-    s.v += h * b.loadAcceleration(def.gravity);
-    if (!b.torque.isZero() || !b.angularAccel.isZero()) {
-      const Mat3 R = (s.dq * b.pose.q).toRotationMatrix();
-      s.w += h * (R * (b.invInertiaLocal * (R.transpose() * detail::tameLoad(b.torque))) +
-                  detail::tameLoad(b.angularAccel));
-    }
-    if (b.linearDamping != 0.0) s.v *= 1.0 / (1.0 + h * b.linearDamping);
-    if (b.angularDamping != 0.0) s.w *= 1.0 / (1.0 + h * b.angularDamping);
-    if (!(s.v.norm() <= def.maxLinearSpeed)) s.v = detail::limitLength(s.v, def.maxLinearSpeed);
-    if (!(s.w.norm() <= def.maxAngularSpeed)) s.w = detail::limitLength(s.w, def.maxAngularSpeed);
+void World::Impl::integrateVelocity(int k, double h) {
+  const Body& b = bodies[awakeBodies[k]];
+  SolverBody& s = solverBodies[k + 1];
+  if (!b.isDynamic()) return;
+  // Most bodies feel gravity only: the loads, the damping and the limits are skipped where
+  // they would change nothing (adding a zero load, scaling by 1, a speed within the limit).
+  s.v += h * b.loadAcceleration(def.gravity);
+  if (!b.torque.isZero() || !b.angularAccel.isZero()) {
+    const Mat3 R = (s.dq * b.pose.q).toRotationMatrix();
+    s.w += h * (R * (b.invInertiaLocal * (R.transpose() * detail::tameLoad(b.torque))) +
+                detail::tameLoad(b.angularAccel));
   }
+  if (b.linearDamping != 0.0) s.v *= 1.0 / (1.0 + h * b.linearDamping);
+  if (b.angularDamping != 0.0) s.w *= 1.0 / (1.0 + h * b.angularDamping);
+  if (!(s.v.norm() <= def.maxLinearSpeed)) s.v = detail::limitLength(s.v, def.maxLinearSpeed);
+  if (!(s.w.norm() <= def.maxAngularSpeed)) s.w = detail::limitLength(s.w, def.maxAngularSpeed);
 }
 
 // Positions and orientations advance with the substep's velocities. A body that is not
@@ -1105,50 +1253,46 @@ void World::Impl::integrateVelocities(double h) {
 // bounded instead of drifting; the plain update w <- I(q1)^-1 I(q0) w lost 45 % of a spin's
 // energy near the intermediate axis in 10 s). This is the gyroscopic effect, implicitly: |w|
 // can never blow up at any spin rate (unlike an explicit w x Iw torque).
-void World::Impl::integratePositions(double h) {
-  for (size_t k = 0; k < awakeBodies.size(); ++k) {
-    const Body& b = bodies[awakeBodies[k]];
-    SolverBody& s = solverBodies[k + 1];
-    s.dp += h * s.v;
-    s.dtheta += h * s.w;
-    s.turned = s.dtheta.norm();
-    if (!b.isDynamic() || b.isotropic || s.w.isZero()) {
-      s.dq = integrateRotation(s.dq, s.w, h);
-      continue;
-    }
-    // In the principal frame: momentum pi, orientation qp (world from principal).
-    Quat qp = s.dq * b.pose.q * b.principalFrame;
-    const Vec3 L = (s.dq * b.pose.q) * (b.inertiaLocal * ((s.dq * b.pose.q).conjugate() * s.w));
-    Vec3 pi = qp.conjugate() * L;
-    auto turn = [&](int axis, double t) {
-      const double angle = t * pi[axis] / b.principalInertia[axis];
-      const Quat r(Eigen::AngleAxisd(angle, Vec3::Unit(axis)));
-      qp = qp * r;
-      pi = r.conjugate() * pi;
-    };
-    turn(0, 0.5 * h), turn(1, 0.5 * h), turn(2, h), turn(1, 0.5 * h), turn(0, 0.5 * h);
-    qp.normalize();
-    s.dq = (qp * b.principalFrame.conjugate() * b.pose.q.conjugate()).normalized();
-    const Vec3 before = s.w;
-    s.w = qp * pi.cwiseQuotient(b.principalInertia);
-    s.startW += s.w - before;  // a change the contacts did not make: not warm-started
+void World::Impl::integratePosition(int k, double h) {
+  const Body& b = bodies[awakeBodies[k]];
+  SolverBody& s = solverBodies[k + 1];
+  s.dp += h * s.v;
+  s.dtheta += h * s.w;
+  s.turned = s.dtheta.norm();
+  if (!b.isDynamic() || b.isotropic || s.w.isZero()) {
+    s.dq = integrateRotation(s.dq, s.w, h);
+    return;
   }
+  // In the principal frame: momentum pi, orientation qp (world from principal).
+  Quat qp = s.dq * b.pose.q * b.principalFrame;
+  const Vec3 L = (s.dq * b.pose.q) * (b.inertiaLocal * ((s.dq * b.pose.q).conjugate() * s.w));
+  Vec3 pi = qp.conjugate() * L;
+  auto turn = [&](int axis, double t) {
+    const double angle = t * pi[axis] / b.principalInertia[axis];
+    const Quat r(Eigen::AngleAxisd(angle, Vec3::Unit(axis)));
+    qp = qp * r;
+    pi = r.conjugate() * pi;
+  };
+  turn(0, 0.5 * h), turn(1, 0.5 * h), turn(2, h), turn(1, 0.5 * h), turn(0, 0.5 * h);
+  qp.normalize();
+  s.dq = (qp * b.principalFrame.conjugate() * b.pose.q.conjugate()).normalized();
+  const Vec3 before = s.w;
+  s.w = qp * pi.cwiseQuotient(b.principalInertia);
+  s.startW += s.w - before;  // a change the contacts did not make: not warm-started
 }
 
 // One pass on points that closed faster than the threshold and actually pushed.
-void World::Impl::applyRestitution() {
-  for (SolverManifold& m : solverManifolds) {
-    if (m.restitution == 0.0) continue;
-    SolverBody &A = solverBodies[m.a], &B = solverBodies[m.b];
-    for (int k = 0; k < m.count; ++k) {
-      if (m.approach[k] > -def.restitutionThreshold || m.maxImpulse[k] == 0.0) continue;
-      const SolverRow r = pointRow(m, k);
-      const double vn = rowVelocity(A, B, r);
-      const double total =
-          std::max(m.impulse[k] - r.mass * (vn + m.restitution * m.approach[k]), 0.0);
-      applyRow(A, B, r, total - m.impulse[k]);
-      m.impulse[k] = total;
-    }
+void World::Impl::applyRestitution(SolverManifold& m) {
+  if (m.restitution == 0.0) return;
+  SolverBody &A = solverBodies[m.a], &B = solverBodies[m.b];
+  for (int k = 0; k < m.count; ++k) {
+    if (m.approach[k] > -def.restitutionThreshold || m.maxImpulse[k] == 0.0) continue;
+    const SolverRow r = pointRow(m, k);
+    const double vn = rowVelocity(A, B, r);
+    const double total =
+        std::max(m.impulse[k] - r.mass * (vn + m.restitution * m.approach[k]), 0.0);
+    applyRow(A, B, r, total - m.impulse[k]);
+    m.impulse[k] = total;
   }
 }
 
@@ -1161,66 +1305,54 @@ void World::Impl::applyRestitution() {
 // deeper than the slop by more than kTiltSlop more. Point by point from the slop itself, a
 // stack's contacts resting at the slop were levelled by turns that tilted the contacts above:
 // a stack of 20 cubes of 15 mm (or 80 of 0.1 m) leaned more each second until it fell.
-void World::Impl::projectPositions() {
+void World::Impl::projectPosition(SolverManifold& m) {
   const double slop = def.positionSlop, levelBeyond = slop + kTiltSlop * slop;
-  for (int it = 0; it < def.positionIterations; ++it) {
-    for (int i : shockOrder) {
-      SolverManifold& m = solverManifolds[i];
-      SolverBody &A = solverBodies[m.a], &B = solverBodies[m.b];
-      if (!m.rowsReady) {  // no point can be deeper than the bound (margin as in idleByBounds)
-        const double gap = m.minSeparation + m.normal.dot(B.dp - A.dp) -
-                           m.reachA * A.dtheta.norm() - m.reachB * B.dtheta.norm();
-        if (gap > 1e-12 - slop) continue;
-        prepareRows(m);
-      }
-      // The basis rows' displacements since the step began; a push at point k moves them by
-      // Kb c_k push, and the pushes reach the bodies as their three basis sums.
-      const Vec3 turn = B.dtheta - A.dtheta;
-      double x[3] = {m.normal.dot(B.dp - A.dp) + m.armB.dot(B.dtheta) - m.armA.dot(A.dtheta),
-                     m.friction[0].lin.dot(turn), m.friction[1].lin.dot(turn)};
-      auto separation = [&](int k) {
-        return m.separation[k] + x[0] + m.alpha[k] * x[1] + m.beta[k] * x[2];
-      };
-      double P[3] = {0.0, 0.0, 0.0};
-      double shared = std::numeric_limits<double>::infinity();
-      for (int k = 0; k < m.count; ++k) shared = std::min(shared, -separation(k) - slop);
-      if (shared > 0.0 && m.basisK[0][0] > 0.0) {
-        P[0] = std::min(def.positionCorrection * shared, kMaxProjection) / m.basisK[0][0];
-        for (int r = 0; r < 3; ++r) x[r] += m.basisK[r][0] * P[0];
-      }
-      for (int k = 0; k < m.count; ++k) {
-        const double c[3] = {1.0, m.alpha[k], m.beta[k]};
-        const double s = separation(k);
-        if (s >= -levelBeyond) continue;
-        const double push =
-            m.pointMass[k] * std::min(-def.positionCorrection * (s + levelBeyond), kMaxProjection);
-        for (int r = 0; r < 3; ++r) {
-          P[r] += c[r] * push;
-          x[r] += (m.basisK[r][0] + m.basisK[r][1] * c[1] + m.basisK[r][2] * c[2]) * push;
-        }
-      }
-      if (P[0] == 0.0) continue;
-      const Vec3 rotA = P[0] * m.dwA + P[1] * m.spinA[0] + P[2] * m.spinA[1];
-      const Vec3 rotB = P[0] * m.dwB + P[1] * m.spinB[0] + P[2] * m.spinB[1];
-      A.dp -= (A.invMass * P[0]) * m.normal, A.dtheta -= rotA, A.correction -= rotA;
-      B.dp += (B.invMass * P[0]) * m.normal, B.dtheta += rotB, B.correction += rotB;
+  SolverBody &A = solverBodies[m.a], &B = solverBodies[m.b];
+  if (!m.rowsReady) {  // no point can be deeper than the bound (margin as in idleByBounds)
+    const double gap = m.minSeparation + m.normal.dot(B.dp - A.dp) - m.reachA * A.dtheta.norm() -
+                       m.reachB * B.dtheta.norm();
+    if (gap > 1e-12 - slop) return;
+    prepareRows(m);
+  }
+  // The basis rows' displacements since the step began; a push at point k moves them by
+  // Kb c_k push, and the pushes reach the bodies as their three basis sums.
+  const Vec3 turn = B.dtheta - A.dtheta;
+  double x[3] = {m.normal.dot(B.dp - A.dp) + m.armB.dot(B.dtheta) - m.armA.dot(A.dtheta),
+                 m.friction[0].lin.dot(turn), m.friction[1].lin.dot(turn)};
+  auto separation = [&](int k) {
+    return m.separation[k] + x[0] + m.alpha[k] * x[1] + m.beta[k] * x[2];
+  };
+  double P[3] = {0.0, 0.0, 0.0};
+  double shared = std::numeric_limits<double>::infinity();
+  for (int k = 0; k < m.count; ++k) shared = std::min(shared, -separation(k) - slop);
+  if (shared > 0.0 && m.basisK[0][0] > 0.0) {
+    P[0] = std::min(def.positionCorrection * shared, kMaxProjection) / m.basisK[0][0];
+    for (int r = 0; r < 3; ++r) x[r] += m.basisK[r][0] * P[0];
+  }
+  for (int k = 0; k < m.count; ++k) {
+    const double c[3] = {1.0, m.alpha[k], m.beta[k]};
+    const double s = separation(k);
+    if (s >= -levelBeyond) continue;
+    const double push =
+        m.pointMass[k] * std::min(-def.positionCorrection * (s + levelBeyond), kMaxProjection);
+    for (int r = 0; r < 3; ++r) {
+      P[r] += c[r] * push;
+      x[r] += (m.basisK[r][0] + m.basisK[r][1] * c[1] + m.basisK[r][2] * c[2]) * push;
     }
   }
-  for (SolverBody& b : solverBodies) {
-    if (b.correction.isZero()) continue;
-    b.dq = integrateRotation(b.dq, b.correction, 1.0);
-    b.correction.setZero();
-  }
+  if (P[0] == 0.0) return;
+  const Vec3 rotA = P[0] * m.dwA + P[1] * m.spinA[0] + P[2] * m.spinA[1];
+  const Vec3 rotB = P[0] * m.dwB + P[1] * m.spinB[0] + P[2] * m.spinB[1];
+  A.dp -= (A.invMass * P[0]) * m.normal, A.dtheta -= rotA, A.correction -= rotA;
+  B.dp += (B.invMass * P[0]) * m.normal, B.dtheta += rotB, B.correction += rotB;
 }
 
-void World::Impl::storeImpulses() {
-  for (const SolverManifold& m : solverManifolds) {
-    ContactManifold& c = contacts[m.source];
-    for (int k = 0; k < m.count; ++k) c.state[k].normalImpulse = m.impulse[k];
-    for (int r = 0; r < 3; ++r) c.friction[r] = m.friction[r].impulse;
-    c.sliding = m.sliding;
-    if (m.sliding) c.anchored = false;
-  }
+void World::Impl::storeImpulses(const SolverManifold& m) {
+  ContactManifold& c = contacts[m.source];
+  for (int k = 0; k < m.count; ++k) c.state[k].normalImpulse = m.impulse[k];
+  for (int r = 0; r < 3; ++r) c.friction[r] = m.friction[r].impulse;
+  c.sliding = m.sliding;
+  if (m.sliding) c.anchored = false;
 }
 
 // Contact levels for shock propagation: static and kinematic bodies are level 0, and every

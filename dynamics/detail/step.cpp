@@ -35,8 +35,7 @@ void World::step(double dt) {
 // ---- collide ------------------------------------------------------------------------------
 
 namespace {
-constexpr double kTouching = 1e-3;     // m: a manifold point this close counts as touching
-constexpr size_t kPairsPerChunk = 64;  // narrowphase pairs per chunk of work
+constexpr double kTouching = 1e-3;  // m: a manifold point this close counts as touching
 
 // Warm-start memory for a new point: the old point with the same feature id, else the
 // nearest old point within 5 mm (feature ids change when a face pair flips near a tie).
@@ -159,11 +158,11 @@ bool World::Impl::collide(double dt) {
   stats.candidatePairs = static_cast<int>(pairs.size());
   stats.reusedManifolds = 0;
 
-  // Narrowphase and warm-start matching: pure functions of the poses, run in chunks of pairs
-  // on the workers, each chunk into its own list (on one thread, one chunk: its list becomes the
-  // contact list without a copy). Waking (a side effect) follows, in pair order.
-  const size_t perChunk =
-      def.workerThreads > 1 ? kPairsPerChunk : std::max<size_t>(pairs.size(), 1);
+  // Narrowphase and warm-start matching: pure functions of the poses, run in one chunk of pairs
+  // per thread, each chunk into its own list (the first list becomes the contact list without
+  // a copy). Waking (a side effect) follows, in pair order.
+  const size_t threads = static_cast<size_t>(std::max(def.workerThreads, 1));
+  const size_t perChunk = std::max<size_t>((pairs.size() + threads - 1) / threads, 1);
   const size_t chunks = (pairs.size() + perChunk - 1) / perChunk;
   if (narrowphaseChunks.size() < chunks) narrowphaseChunks.resize(chunks);
   inChunks(pairs.size(), perChunk, [&](size_t begin, size_t end, size_t chunk) {
@@ -184,7 +183,7 @@ bool World::Impl::collide(double dt) {
       }
       stats.reusedManifolds += c.reused;
     }
-    if (chunks == 1)
+    if (chunk == 0)
       contacts.swap(out.manifolds);  // contacts was empty
     else
       contacts.insert(contacts.end(), out.manifolds.begin(), out.manifolds.end());

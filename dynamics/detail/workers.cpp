@@ -1,44 +1,78 @@
 #include "dynamics/detail/workers.hpp"
 
+#include <chrono>
+
 namespace grip::detail {
 
+namespace {
+constexpr auto kSpin = std::chrono::microseconds(200);  // a helper's wait before it sleeps
+
+inline void pause() {
+#if defined(__x86_64__) || defined(__i386__)
+  __builtin_ia32_pause();
+#endif
+}
+}  // namespace
+
 Workers::Workers(int threads) {
-  for (int i = 1; i < threads; ++i) helpers_.emplace_back([this] { helperLoop(); });
+  for (int i = 1; i < threads; ++i) helpers_.emplace_back([this, i] { helperLoop(i); });
 }
 
 Workers::~Workers() {
-  {
-    std::lock_guard<std::mutex> lock(mutex_);
-    stopping_ = true;
-  }
-  wake_.notify_all();
+  stopping_.store(true);
+  posted_.fetch_add(1);
+  posted_.notify_all();
   for (std::thread& t : helpers_) t.join();
 }
 
-void Workers::takeChunks() {
-  for (int c = next_.fetch_add(1); c < chunks_; c = next_.fetch_add(1)) {
-    try {
-      (*task_)(c);
-    } catch (...) {
-      std::lock_guard<std::mutex> lock(mutex_);
-      if (!error_) error_ = std::current_exception();
-    }
+void Workers::guarded(int arg) {
+  try {
+    (*task_)(arg);
+  } catch (...) {
+    std::lock_guard<std::mutex> lock(errorMutex_);
+    if (!error_) error_ = std::current_exception();
   }
 }
 
-void Workers::helperLoop() {
+void Workers::takeChunks() {
+  for (int c = next_.fetch_add(1); c < chunks_; c = next_.fetch_add(1)) guarded(c);
+}
+
+void Workers::helperLoop(int index) {
+  using Clock = std::chrono::steady_clock;
   unsigned seen = 0;
   for (;;) {
-    {
-      std::unique_lock<std::mutex> lock(mutex_);
-      wake_.wait(lock, [&] { return stopping_ || generation_ != seen; });
-      if (stopping_) return;
-      seen = generation_;
+    unsigned now = posted_.load(std::memory_order_acquire);
+    const Clock::time_point until = Clock::now() + kSpin;
+    for (int spins = 1; now == seen; now = posted_.load(std::memory_order_acquire), ++spins) {
+      pause();
+      if (spins % 64 == 0 && Clock::now() > until) posted_.wait(seen, std::memory_order_acquire);
     }
-    takeChunks();
-    std::lock_guard<std::mutex> lock(mutex_);
-    if (--busy_ == 0) finished_.notify_one();
+    seen = now;
+    if (stopping_.load()) return;
+    if (each_)
+      guarded(index);
+    else
+      takeChunks();
+    busy_.fetch_sub(1, std::memory_order_release);
   }
+}
+
+void Workers::start(const std::function<void(int)>& task, int chunks, bool each) {
+  task_ = &task;
+  chunks_ = chunks;
+  each_ = each;
+  next_.store(0);
+  error_ = nullptr;
+  busy_.store(static_cast<int>(helpers_.size()), std::memory_order_relaxed);
+  posted_.fetch_add(1, std::memory_order_release);
+  posted_.notify_all();
+}
+
+void Workers::finish() {
+  while (busy_.load(std::memory_order_acquire) != 0) pause();
+  task_ = nullptr;
+  if (error_) std::rethrow_exception(error_);
 }
 
 void Workers::run(int chunks, const std::function<void(int)>& task) {
@@ -46,21 +80,19 @@ void Workers::run(int chunks, const std::function<void(int)>& task) {
     for (int c = 0; c < chunks; ++c) task(c);
     return;
   }
-  {
-    std::lock_guard<std::mutex> lock(mutex_);
-    task_ = &task;
-    chunks_ = chunks;
-    next_.store(0);
-    busy_ = static_cast<int>(helpers_.size());
-    error_ = nullptr;
-    ++generation_;
-  }
-  wake_.notify_all();
+  start(task, chunks, false);
   takeChunks();
-  std::unique_lock<std::mutex> lock(mutex_);
-  finished_.wait(lock, [&] { return busy_ == 0; });
-  task_ = nullptr;
-  if (error_) std::rethrow_exception(error_);
+  finish();
+}
+
+void Workers::runEach(const std::function<void(int)>& task) {
+  if (helpers_.empty()) {
+    task(0);
+    return;
+  }
+  start(task, 0, true);
+  guarded(0);
+  finish();
 }
 
 }  // namespace grip::detail

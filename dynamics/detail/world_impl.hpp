@@ -82,6 +82,11 @@ struct PointState {
 };
 
 // The key of a pair of body slots, a < b.
+// Regions of the solve (World::Impl::splitRegions).
+constexpr uint8_t kAcross = 2;         // a manifold between the two regions
+constexpr uint8_t kNoRegion = 3;       // an immovable solver body (the world), in neither region
+constexpr size_t kRegionBodies = 256;  // fewer awake bodies stay one region
+
 inline uint64_t makePairKey(uint32_t a, uint32_t b) {
   return (uint64_t(a) << 32) | b;
 }
@@ -181,6 +186,7 @@ struct alignas(64) SolverManifold {
   uint8_t shockMoves = 0;
   bool shockReady = false;  // the shock rows below are prepared (prepareShockRows)
   bool shockBlock = false;  // the exact patch solve applies in the shock pass
+  uint8_t region = 0;       // 0 or 1: both moving bodies in that region; kAcross: one in each
 
   // Per point.
   double separation[4] = {};           // at the step's start
@@ -274,6 +280,15 @@ struct World::Impl {
   std::vector<detail::SolverBody> solverBodies;
   std::vector<uint32_t> awakeBodies;  // slot indices of awake dynamic/kinematic bodies
   std::vector<detail::SolverManifold> solverManifolds;
+  // Regions (splitRegions): many awake bodies are cut in two halves across their widest
+  // extent, and the solve runs each half's own work on its own thread; the manifolds across
+  // the cut come after, on one thread. The same order with one thread or two.
+  std::vector<uint8_t> solverRegion;  // per solver body: 0, 1 or kNoRegion (immovable)
+  std::vector<int> regionBodies;      // awake slots (solver index - 1), region 0's first
+  int regionBodyEnd = 0;              // where region 1's start in regionBodies
+  int manifoldEnd[2] = {0, 0};        // solverManifolds: region 0, region 1, then across
+  int shockEnd[2] = {0, 0};           // the same for shockOrder
+  int worldTwin = 0;                  // the world as region 1's manifolds see it
   std::vector<int> levels, adjacencyStart, adjacency, shockOrder, fill, queue;  // shock order
   std::vector<int> islandOf, islandDepth, relaxPasses;  // relax passes per manifold
   std::vector<uint8_t> bearing;         // per solver body: reached through load-bearing contacts
@@ -309,17 +324,22 @@ struct World::Impl {
                 const std::function<void(size_t, size_t, size_t)>& task);
   void contactEvents();
   void solve(double dt);
+  void splitRegions();
+  // work(0) and work(1) at once on two threads (regions split, workerThreads > 1), else one
+  // after the other: the same result.
+  template <class Work>
+  void inBothRegions(const Work& work);
   void prepareContacts();
   void prepareManifold(detail::SolverManifold& m);  // m.source set
   void prepareRows(detail::SolverManifold& m);
   void computeLevels();
   void prepareShock(size_t manifold);
-  void projectPositions();
-  void integrateVelocities(double h);
-  void warmStart(int substep);
-  void integratePositions(double h);
-  void applyRestitution();
-  void storeImpulses();
+  void projectPosition(detail::SolverManifold& m);  // one manifold's share of a pass
+  void integrateVelocity(int slot, double h);       // awake body `slot` (solver index slot + 1)
+  void warmStart(detail::SolverBody& b, int substep);
+  void integratePosition(int slot, double h);
+  void applyRestitution(detail::SolverManifold& m);
+  void storeImpulses(const detail::SolverManifold& m);
   void updateSleep(double dt);
   void finishStep();
 

@@ -88,10 +88,11 @@ TEST(Determinism, HashSeesTheSmallestChange) {
   EXPECT_NE(run(0.0), run(1.0));
 }
 
-// The narrowphase and the contact preparation are shared out over WorldDef::workerThreads in
-// chunks that each write only their own output: the run must be the same bit for bit with any
-// number of threads. A 400-box pile (hundreds of chunks) with a sensor in it (sensor pairs go
-// through the chunks too), stepped through its fall and settling.
+// The narrowphase is shared out over WorldDef::workerThreads in chunks that each write only
+// their own output, and the solve of 256 awake bodies or more runs in two regions, one per
+// thread, with the manifolds across the cut after both: the run must be the same bit for bit
+// with any number of threads. A 400-box pile (two regions while it falls and settles) with a
+// sensor in it (sensor pairs go through the chunks too).
 TEST(Determinism, AnyNumberOfThreadsGivesTheSameRun) {
   auto run = [](int threads) {
     WorldDef def;
@@ -106,16 +107,18 @@ TEST(Determinism, AnyNumberOfThreadsGivesTheSameRun) {
     sensor.position = Vec3(0, 0.3, 0);
     w.createBody(sensor);
     StateHash h;
-    int sensorEvents = 0, contactEvents = 0;
+    int sensorEvents = 0, contactEvents = 0, splitSteps = 0;
     for (int i = 0; i < 150; ++i) {
       w.step(1.0 / 60.0);
       h.add(w.stateHash());
+      splitSteps += w.stats().solveRegions == 2;
       sensorEvents += static_cast<int>(w.sensorBeginEvents().size() + w.sensorEndEvents().size());
       contactEvents += static_cast<int>(w.contactBeginEvents().size());
       for (const SensorEvent& e : w.sensorBeginEvents()) h.add(uint64_t{e.visitor.index});
     }
     EXPECT_GT(sensorEvents, 10) << "the sensor saw nothing: the test does not test it";
     EXPECT_GT(contactEvents, 1000);
+    EXPECT_EQ(splitSteps, 150) << "the solve did not run in two regions";
     return h.value();
   };
   const uint64_t one = run(1);
