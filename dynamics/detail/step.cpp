@@ -35,7 +35,8 @@ void World::step(double dt) {
 // ---- collide ------------------------------------------------------------------------------
 
 namespace {
-constexpr double kTouching = 1e-3;  // m: a manifold point this close counts as touching
+constexpr double kTouching = 1e-3;        // m: a manifold point this close counts as touching
+constexpr size_t kMinPairsPerChunk = 64;  // fewer narrowphase pairs are not worth a thread
 
 // Warm-start memory for a new point: the old point with the same feature id, else the
 // nearest old point within 5 mm (feature ids change when a face pair flips near a tie).
@@ -159,10 +160,11 @@ bool World::Impl::collide(double dt) {
   stats.reusedManifolds = 0;
 
   // Narrowphase and warm-start matching: pure functions of the poses, run in one chunk of pairs
-  // per thread, each chunk into its own list (the first list becomes the contact list without
-  // a copy). Waking (a side effect) follows, in pair order.
+  // per thread (a small scene in one chunk: it never wakes a thread), each chunk into its own
+  // list (the first list becomes the contact list without a copy). Waking (a side effect)
+  // follows, in pair order.
   const size_t threads = static_cast<size_t>(std::max(def.workerThreads, 1));
-  const size_t perChunk = std::max<size_t>((pairs.size() + threads - 1) / threads, 1);
+  const size_t perChunk = std::max((pairs.size() + threads - 1) / threads, kMinPairsPerChunk);
   const size_t chunks = (pairs.size() + perChunk - 1) / perChunk;
   if (narrowphaseChunks.size() < chunks) narrowphaseChunks.resize(chunks);
   inChunks(pairs.size(), perChunk, [&](size_t begin, size_t end, size_t chunk) {
