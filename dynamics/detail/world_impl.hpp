@@ -81,12 +81,12 @@ struct PointState {
   double normalImpulse = 0.0;
 };
 
-// The key of a pair of body slots, a < b.
 // Regions of the solve (World::Impl::splitRegions).
 constexpr uint8_t kAcross = 2;         // a manifold between the two regions
 constexpr uint8_t kNoRegion = 3;       // an immovable solver body (the world), in neither region
 constexpr size_t kRegionBodies = 256;  // fewer awake bodies stay one region
 
+// The key of a pair of body slots, a < b.
 inline uint64_t makePairKey(uint32_t a, uint32_t b) {
   return (uint64_t(a) << 32) | b;
 }
