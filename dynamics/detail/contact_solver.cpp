@@ -1076,21 +1076,21 @@ void World::Impl::prepareContacts() {
     byRegion[region].push_back(static_cast<int>(ci));
   }
   solverManifolds.resize(byRegion[0].size() + byRegion[1].size() + byRegion[2].size());
-  size_t count = 0;
-  for (uint8_t region = 0; region < 3; ++region) {
-    for (int ci : byRegion[region]) {
-      solverManifolds[count].source = ci;
-      solverManifolds[count++].region = region;
-    }
-    if (region < 2) manifoldEnd[region] = static_cast<int>(count);
-  }
+  manifoldEnd[0] = static_cast<int>(byRegion[0].size());
+  manifoldEnd[1] = manifoldEnd[0] + static_cast<int>(byRegion[1].size());
   // Each region's thread prepares the manifolds it solves (the first one those across too).
+  const std::vector<int>* lists = byRegion;  // this thread's, for the helper too
+  auto prepare = [&](uint8_t region) {
+    int i = region == 0 ? 0 : manifoldEnd[region - 1];
+    for (int ci : lists[region]) {
+      SolverManifold& m = solverManifolds[i++];
+      m.source = ci, m.region = region;
+      prepareManifold(m);
+    }
+  };
   inBothRegions([&](int region) {
-    const int begin = region == 0 ? 0 : manifoldEnd[0], end = manifoldEnd[region];
-    for (int i = begin; i < end; ++i) prepareManifold(solverManifolds[i]);
-    if (region == 0)
-      for (size_t i = manifoldEnd[1]; i < solverManifolds.size(); ++i)
-        prepareManifold(solverManifolds[i]);
+    prepare(static_cast<uint8_t>(region));
+    if (region == 0) prepare(kAcross);
   });
   int points = 0;
   for (const SolverManifold& m : solverManifolds) points += m.count;
@@ -1491,7 +1491,11 @@ void World::Impl::computeLevels() {
     solverManifolds[i].anchored = false;
   }
   std::sort(tagged.begin(), tagged.end());
-  for (size_t i = 0; i < solverManifolds.size(); ++i) prepareShock(i);
+  inBothRegions([&](int region) {  // each region's own; the first thread's, those across too
+    for (int i = region == 0 ? 0 : manifoldEnd[0]; i < manifoldEnd[region]; ++i) prepareShock(i);
+    if (region == 0)
+      for (size_t i = manifoldEnd[1]; i < solverManifolds.size(); ++i) prepareShock(i);
+  });
   // The load pass's supports: bodies that rest on one support alone (counted per upper body),
   // in chains down to a static body (ground up, a body's support comes before its own).
   std::vector<int>& supports = fill;  // reused scratch
