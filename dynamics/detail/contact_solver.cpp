@@ -795,6 +795,14 @@ double combineFriction(double a, double b) {
 
 }  // namespace
 
+template <class Each>
+void World::Impl::forManifolds(int region, const Each& each) {
+  const int begin = region == 0 ? 0 : manifoldEnd[region - 1];
+  const int end =
+      region == kAcross ? static_cast<int>(solverManifolds.size()) : manifoldEnd[region];
+  for (int i = begin; i < end; ++i) each(i);
+}
+
 template <class Work>
 void World::Impl::inBothRegions(const Work& work) {
   if (def.workerThreads > 1 && worldTwin != 0) {
@@ -885,15 +893,15 @@ void World::Impl::solve(double dt) {
         .subspan(r == 0 ? 0 : regionBodyEnd,
                  r == 0 ? regionBodyEnd : regionBodies.size() - regionBodyEnd);
   };
-  auto manifoldsOf = [&](int r, auto&& each) {
-    const int begin = r == 0 ? 0 : manifoldEnd[r - 1];
-    const int end = r == kAcross ? manifoldCount : manifoldEnd[r];
-    for (int i = begin; i < end; ++i) each(i);
-  };
-  auto shocksOf = [&](int r, auto&& each) {
+  auto manifoldsOf = [&](int r, const auto& each) { forManifolds(r, each); };
+  auto shocksOf = [&](int r, const auto& each) {
     const int begin = r == 0 ? 0 : shockEnd[r - 1];
     const int end = r == kAcross ? manifoldCount : shockEnd[r];
     for (int k = begin; k < end; ++k) each(shockOrder[k]);
+  };
+  auto warmStartAt = [&](int i) {  // a manifold without rows holds no impulse
+    SolverManifold& m = solverManifolds[i];
+    if (m.rowsReady) warmStartManifold(m, solverBodies[m.a], solverBodies[m.b]);
   };
 
   for (int sub = 0; sub < substeps; ++sub) {
@@ -906,22 +914,14 @@ void World::Impl::solve(double dt) {
         warmStart(b, sub);
       }
     });
-    if (sub == 0)  // a manifold without rows holds no impulse
-      manifoldsOf(kAcross, [&](int i) {
-        SolverManifold& m = solverManifolds[i];
-        if (m.rowsReady) warmStartManifold(m, solverBodies[m.a], solverBodies[m.b]);
-      });
+    if (sub == 0) manifoldsOf(kAcross, warmStartAt);
     auto biasedPass = [&](int r) {
       manifoldsOf(r, [&](int i) {
         if (ready(i, true)) solveManifold(solverManifolds[i], solverBodies, ctx, true);
       });
     };
     inBothRegions([&](int r) {
-      if (sub == 0)
-        manifoldsOf(r, [&](int i) {
-          SolverManifold& m = solverManifolds[i];
-          if (m.rowsReady) warmStartManifold(m, solverBodies[m.a], solverBodies[m.b]);
-        });
+      if (sub == 0) manifoldsOf(r, warmStartAt);
       biasedPass(r);
     });
     biasedPass(kAcross);
@@ -1492,9 +1492,9 @@ void World::Impl::computeLevels() {
   }
   std::sort(tagged.begin(), tagged.end());
   inBothRegions([&](int region) {  // each region's own; the first thread's, those across too
-    for (int i = region == 0 ? 0 : manifoldEnd[0]; i < manifoldEnd[region]; ++i) prepareShock(i);
-    if (region == 0)
-      for (size_t i = manifoldEnd[1]; i < solverManifolds.size(); ++i) prepareShock(i);
+    auto shock = [&](int i) { prepareShock(static_cast<size_t>(i)); };
+    forManifolds(region, shock);
+    if (region == 0) forManifolds(kAcross, shock);
   });
   // The load pass's supports: bodies that rest on one support alone (counted per upper body),
   // in chains down to a static body (ground up, a body's support comes before its own).

@@ -329,6 +329,9 @@ struct World::Impl {
   // after the other: the same result.
   template <class Work>
   void inBothRegions(const Work& work);
+  // each(i) for the manifolds of a region (0, 1 or kAcross), in index order.
+  template <class Each>
+  void forManifolds(int region, const Each& each);
   void prepareContacts();
   void prepareManifold(detail::SolverManifold& m);  // m.source set
   void prepareRows(detail::SolverManifold& m);
