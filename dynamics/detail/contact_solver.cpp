@@ -803,18 +803,6 @@ void World::Impl::forManifolds(int region, const Each& each) {
   for (int i = begin; i < end; ++i) each(i);
 }
 
-template <class Work>
-void World::Impl::inBothRegions(const Work& work) {
-  if (def.workerThreads > 1 && worldTwin != 0) {
-    if (!workers.pool) workers.pool = std::make_unique<detail::Workers>(def.workerThreads);
-    workers.pool->runEach([&work](int thread) {  // (small enough for std::function's own store)
-      if (thread < 2) work(thread);
-    });
-  } else {
-    work(0), work(1);
-  }
-}
-
 void World::Impl::solve(double dt) {
   const int substeps = def.substeps;
   const double h = dt / substeps;
@@ -1014,47 +1002,24 @@ void World::Impl::warmStart(SolverBody& b, int substep) {
   b.heldV.setZero(), b.heldW.setZero();
 }
 
-// Regions: with many awake bodies, the passes' work is cut in two halves, at the median of
-// the bodies' centres along their widest extent, and each half's manifolds are solved on
-// their own thread (solve); a manifold across the cut waits for both. The order is the same
-// with one thread as with two, so the result is too. Fewer bodies stay one region (the
-// order of the solve as it was before regions).
+// The solver bodies in their regions (assignRegions), region 0's first. Region 1 gets its own
+// immovable world: the bodies resting on the ground in both regions would otherwise write
+// (zeros) to one world body from both threads.
 void World::Impl::splitRegions() {
   const size_t n = awakeBodies.size();
   solverRegion.assign(solverBodies.size(), kNoRegion);
-  regionBodies.resize(n);
-  worldTwin = 0;
-  stats.solveRegions = n < kRegionBodies ? 1 : 2;
-  if (n < kRegionBodies) {
-    std::iota(regionBodies.begin(), regionBodies.end(), 0);
-    regionBodyEnd = static_cast<int>(n);
-    std::fill(solverRegion.begin() + 1, solverRegion.end(), uint8_t{0});
-    return;
-  }
-  Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
-  for (uint32_t slot : awakeBodies) {
-    lo = lo.cwiseMin(bodies[slot].com);
-    hi = hi.cwiseMax(bodies[slot].com);
-  }
-  int axis = 0;
-  (hi - lo).maxCoeff(&axis);
-  static thread_local std::vector<double> along, sorted;
-  along.resize(n);
-  for (size_t k = 0; k < n; ++k) along[k] = bodies[awakeBodies[k]].com[axis];
-  sorted = along;
-  std::nth_element(sorted.begin(), sorted.begin() + static_cast<long>(n / 2), sorted.end());
-  const double median = sorted[n / 2];
-  int next = 0;
-  for (int region = 0; region < 2; ++region) {
+  regionBodies.clear();
+  stats.solveRegions = regionCount;
+  for (int region = 0; region < regionCount; ++region) {
     for (size_t k = 0; k < n; ++k) {
-      if ((along[k] < median) != (region == 0)) continue;
-      regionBodies[next++] = static_cast<int>(k);
+      if ((bodies[awakeBodies[k]].region == 1) != (region == 1)) continue;
+      regionBodies.push_back(static_cast<int>(k));
       solverRegion[k + 1] = static_cast<uint8_t>(region);
     }
-    if (region == 0) regionBodyEnd = next;
+    if (region == 0) regionBodyEnd = static_cast<int>(regionBodies.size());
   }
-  // Region 1's own immovable world: the bodies resting on the ground in both regions would
-  // otherwise write (zeros) to one world body from both threads.
+  worldTwin = 0;
+  if (regionCount == 1) return;
   worldTwin = static_cast<int>(solverBodies.size());
   solverBodies.emplace_back();
   solverRegion.push_back(kNoRegion);
@@ -1065,26 +1030,30 @@ void World::Impl::prepareContacts() {
   // those across the cut (each group in key order); each is prepared on its own.
   // The list keeps its manifolds from the last step (1.7 KB each, not built anew): each field
   // is set again by prepareManifold.
-  static thread_local std::vector<int> byRegion[3];
-  for (std::vector<int>& list : byRegion) list.clear();
-  for (size_t ci = 0; ci < contacts.size(); ++ci) {
-    const Body &A = bodies[contacts[ci].bodyA], &B = bodies[contacts[ci].bodyB];
-    if (A.solverIndex == 0 && B.solverIndex == 0) continue;
-    if (!A.isDynamic() && !B.isDynamic()) continue;
-    const uint8_t ra = solverRegion[A.solverIndex], rb = solverRegion[B.solverIndex];
-    const uint8_t region = ra == kNoRegion ? rb : rb == kNoRegion || ra == rb ? ra : kAcross;
-    byRegion[region].push_back(static_cast<int>(ci));
+  // (The kept run holds none: its bodies do not move.)
+  static thread_local std::vector<std::pair<uint8_t, int>> byRegion[3];  // run, index
+  for (auto& list : byRegion) list.clear();
+  for (uint8_t run = 0; run < 2; ++run) {
+    const std::vector<ContactManifold>& list = contacts.run[run];
+    for (size_t ci = 0; ci < list.size(); ++ci) {
+      const Body &A = bodies[list[ci].bodyA], &B = bodies[list[ci].bodyB];
+      if (A.solverIndex == 0 && B.solverIndex == 0) continue;
+      if (!A.isDynamic() && !B.isDynamic()) continue;
+      const uint8_t ra = solverRegion[A.solverIndex], rb = solverRegion[B.solverIndex];
+      const uint8_t region = ra == kNoRegion ? rb : rb == kNoRegion || ra == rb ? ra : kAcross;
+      byRegion[region].emplace_back(run, static_cast<int>(ci));
+    }
   }
   solverManifolds.resize(byRegion[0].size() + byRegion[1].size() + byRegion[2].size());
   manifoldEnd[0] = static_cast<int>(byRegion[0].size());
   manifoldEnd[1] = manifoldEnd[0] + static_cast<int>(byRegion[1].size());
   // Each region's thread prepares the manifolds it solves (the first one those across too).
-  const std::vector<int>* lists = byRegion;  // this thread's, for the helper too
+  const auto* lists = byRegion;  // this thread's, for the helper too
   auto prepare = [&](uint8_t region) {
     int i = region == 0 ? 0 : manifoldEnd[region - 1];
-    for (int ci : lists[region]) {
+    for (const auto& [run, ci] : lists[region]) {
       SolverManifold& m = solverManifolds[i++];
-      m.source = ci, m.region = region;
+      m.sourceRun = run, m.source = ci, m.region = region;
       prepareManifold(m);
     }
   };
@@ -1101,7 +1070,7 @@ void World::Impl::prepareContacts() {
 }
 
 void World::Impl::prepareManifold(SolverManifold& m) {
-  ContactManifold& c = contacts[m.source];
+  ContactManifold& c = sourceOf(m);
   const Body &A = bodies[c.bodyA], &B = bodies[c.bodyB];
   m.a = A.solverIndex, m.b = B.solverIndex;
   if (m.region == 1) m.a = m.a == 0 ? worldTwin : m.a, m.b = m.b == 0 ? worldTwin : m.b;
@@ -1168,7 +1137,7 @@ void World::Impl::prepareManifold(SolverManifold& m) {
 // the patch friction rows and the exact patch solve. The same whenever it runs in the step: it
 // reads only the bodies as they were at the step's start.
 void World::Impl::prepareRows(SolverManifold& m) {
-  const ContactManifold& c = contacts[m.source];
+  const ContactManifold& c = sourceOf(m);
   const Body &A = bodies[c.bodyA], &B = bodies[c.bodyB];
   const SolverBody &sa = solverBodies[m.a], &sb = solverBodies[m.b];
   const Vec3& n = m.normal;
@@ -1348,7 +1317,7 @@ void World::Impl::projectPosition(SolverManifold& m) {
 }
 
 void World::Impl::storeImpulses(const SolverManifold& m) {
-  ContactManifold& c = contacts[m.source];
+  ContactManifold& c = sourceOf(m);
   for (int k = 0; k < m.count; ++k) c.state[k].normalImpulse = m.impulse[k];
   for (int r = 0; r < 3; ++r) c.friction[r] = m.friction[r].impulse;
   c.sliding = m.sliding;

@@ -7,6 +7,7 @@
 //   updateSleep   islands; islands at rest long enough fall asleep
 //   finishStep    clear forces, advance time
 #include <algorithm>
+#include <limits>
 #include <numeric>
 #include <tuple>
 
@@ -35,8 +36,7 @@ void World::step(double dt) {
 // ---- collide ------------------------------------------------------------------------------
 
 namespace {
-constexpr double kTouching = 1e-3;        // m: a manifold point this close counts as touching
-constexpr size_t kMinPairsPerChunk = 64;  // fewer narrowphase pairs are not worth a thread
+constexpr double kTouching = 1e-3;  // m: a manifold point this close counts as touching
 
 // Warm-start memory for a new point: the old point with the same feature id, else the
 // nearest old point within 5 mm (feature ids change when a face pair flips near a tie).
@@ -153,50 +153,46 @@ bool World::Impl::collide(double dt) {
   broadphase.findPairs(proxyBoxes, proxyActive, pairs);
 
   std::swap(previous, contacts);
-  contacts.clear();
+  for (std::vector<ContactManifold>& run : contacts.run) run.clear();
   previousSensorPairs.swap(sensorPairs);
   sensorPairs.clear();
   stats.candidatePairs = static_cast<int>(pairs.size());
-  stats.reusedManifolds = 0;
 
-  // Narrowphase and warm-start matching: pure functions of the poses, run in one chunk of pairs
-  // per thread (a small scene in one chunk: it never wakes a thread), each chunk into its own
-  // list (the first list becomes the contact list without a copy). Waking (a side effect)
-  // follows, in pair order.
-  const size_t threads = static_cast<size_t>(std::max(def.workerThreads, 1));
-  const size_t perChunk = std::max((pairs.size() + threads - 1) / threads, kMinPairsPerChunk);
-  const size_t chunks = (pairs.size() + perChunk - 1) / perChunk;
-  if (narrowphaseChunks.size() < chunks) narrowphaseChunks.resize(chunks);
-  inChunks(pairs.size(), perChunk, [&](size_t begin, size_t end, size_t chunk) {
-    narrowphase(begin, end, dt, narrowphaseChunks[chunk]);
-  });
+  // Narrowphase and warm-start matching, pure functions of the poses: each region's pairs (by
+  // the pair's first moving body, in key order) on the thread that will solve them, into the
+  // region's run of the contact list. Waking (a side effect) follows.
+  assignRegions();
+  auto regionOf = [&](const std::pair<uint32_t, uint32_t>& pair) {
+    const uint8_t a = bodies[proxyBody[pair.first]].region;
+    return a != detail::kNoRegion ? a : bodies[proxyBody[pair.second]].region;
+  };
+  regionPairEnd = static_cast<size_t>(
+      std::stable_partition(pairs.begin(), pairs.end(),
+                            [&](const auto& pair) { return regionOf(pair) != 1; }) -
+      pairs.begin());
+  inBothRegions([&](int region) { narrowphase(region, dt); });
   bool woke = false;
-  for (size_t chunk = 0; chunk < chunks; ++chunk) {
-    detail::NarrowphaseChunk& out = narrowphaseChunks[chunk];
+  stats.reusedManifolds = 0;
+  for (const detail::NarrowphaseChunk& out : narrowphaseOut) {
     sensorPairs.insert(sensorPairs.end(), out.sensorPairs.begin(), out.sensorPairs.end());
-    for (const ContactManifold& c : out.manifolds) {
-      const Body &A = bodies[c.bodyA], &B = bodies[c.bodyB];
-      if (c.touching && A.awake != B.awake) {
-        const uint32_t sleeper = A.awake ? c.bodyB : c.bodyA;
-        if (bodies[sleeper].isDynamic() && !bodies[sleeper].awake) {
-          wakeBody(sleeper);
-          woke = true;
-        }
-      }
-      stats.reusedManifolds += c.reused;
+    for (uint32_t sleeper : out.sleepersTouched) {
+      if (bodies[sleeper].awake) continue;  // its island woke already
+      wakeBody(sleeper);
+      woke = true;
     }
-    if (chunk == 0)
-      contacts.swap(out.manifolds);  // contacts was empty
-    else
-      contacts.insert(contacts.end(), out.manifolds.begin(), out.manifolds.end());
+    stats.reusedManifolds += out.reused;
   }
   // Keep contacts between bodies that did not move (sleeping or static), in key order.
-  const size_t fresh = contacts.size();
-  for (const ContactManifold& c : previous)
-    if (carriesOver(bodies, c)) contacts.push_back(c);
+  std::vector<ContactManifold>& kept = contacts.run[detail::ContactRuns::kKept];
+  long ends[3] = {};
+  for (int run = 0; run < 3; ++run) {
+    for (const ContactManifold& c : previous.run[run])
+      if (carriesOver(bodies, c)) kept.push_back(c);
+    ends[run] = static_cast<long>(kept.size());
+  }
   auto less = [](const ContactManifold& x, const ContactManifold& y) { return x.keyLess(y); };
-  std::inplace_merge(contacts.begin(), contacts.begin() + static_cast<long>(fresh), contacts.end(),
-                     less);
+  std::inplace_merge(kept.begin(), kept.begin() + ends[0], kept.begin() + ends[1], less);
+  std::inplace_merge(kept.begin(), kept.begin() + ends[1], kept.end(), less);
   if (woke) {  // collide again from the same warm-start memory
     std::swap(previous, contacts);
     previousSensorPairs.swap(sensorPairs);
@@ -204,18 +200,57 @@ bool World::Impl::collide(double dt) {
   return woke;
 }
 
-void World::Impl::narrowphase(size_t begin, size_t end, double dt,
-                              detail::NarrowphaseChunk& out) const {
-  out.manifolds.clear(), out.sensorPairs.clear();
+// Regions: with many moving bodies, the step's work is cut in two halves, at the median of
+// the moving bodies' centres along their widest extent; each half's narrowphase and solve run
+// on their own thread (collide, solve), and the manifolds across the cut after both. The order
+// is the same with one thread as with two, so the result is too. Fewer bodies stay one region
+// (the order of the step as it was before regions).
+void World::Impl::assignRegions() {
+  regionSlots.clear();
+  for (uint32_t i = 0; i < bodies.size(); ++i) {
+    Body& b = bodies[i];
+    const bool moving = b.alive && b.awake && b.type != BodyType::Static;
+    b.region = moving ? 0 : detail::kNoRegion;
+    if (moving) regionSlots.push_back(i);
+  }
+  const size_t n = regionSlots.size();
+  regionCount = n < detail::kRegionBodies ? 1 : 2;
+  if (regionCount == 1) return;
+  Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
+  for (uint32_t slot : regionSlots) {
+    lo = lo.cwiseMin(bodies[slot].com);
+    hi = hi.cwiseMax(bodies[slot].com);
+  }
+  int axis = 0;
+  (hi - lo).maxCoeff(&axis);
+  regionScratch.resize(n);
+  for (size_t k = 0; k < n; ++k) regionScratch[k] = bodies[regionSlots[k]].com[axis];
+  std::nth_element(regionScratch.begin(), regionScratch.begin() + static_cast<long>(n / 2),
+                   regionScratch.end());
+  const double median = regionScratch[n / 2];
+  for (uint32_t slot : regionSlots) bodies[slot].region = bodies[slot].com[axis] < median ? 0 : 1;
+}
+
+void World::Impl::narrowphase(int region, double dt) {
+  detail::NarrowphaseChunk& out = narrowphaseOut[region];
+  std::vector<ContactManifold>& made = contacts.run[region];
+  out.sensorPairs.clear(), out.sleepersTouched.clear();
+  const size_t begin = region == 0 ? 0 : regionPairEnd;
+  const size_t end = region == 0 ? regionPairEnd : pairs.size();
   const double reuseHalfCos = std::cos(0.5 * def.contactReuseAngle);
-  // Last step's manifolds, walked along with the pairs (both are in key order) from this
-  // chunk's first pair on.
-  auto cursor = previous.begin();
+  // Last step's manifolds, each run walked along with the pairs (all in key order) from this
+  // region's first pair on.
+  PreviousCursors cursor{};
   if (begin < end) {
     const uint64_t first =
         detail::makePairKey(proxyBody[pairs[begin].first], proxyBody[pairs[begin].second]);
-    cursor = std::lower_bound(previous.begin(), previous.end(), first,
-                              [](const ContactManifold& c, uint64_t k) { return c.pairKey() < k; });
+    for (int run = 0; run < 3; ++run) {
+      const std::vector<ContactManifold>& list = previous.run[run];
+      cursor[run] = static_cast<size_t>(
+          std::lower_bound(list.begin(), list.end(), first,
+                           [](const ContactManifold& c, uint64_t k) { return c.pairKey() < k; }) -
+          list.begin());
+    }
   }
   for (size_t pair = begin; pair < end; ++pair) {
     const uint32_t ia = proxyBody[pairs[pair].first], ib = proxyBody[pairs[pair].second];
@@ -250,14 +285,14 @@ void World::Impl::narrowphase(size_t begin, size_t end, double dt,
     const ContactManifold* last = findPrevious(cursor, ia, ib, 0, 0);  // cursor at the pair
     if (carriable && last && margin < last->margin + 0.5 * def.speculativeDistance &&
         closeTo(relative, last->computedAt, def.contactReuseDistance, reuseHalfCos)) {
-      carryAlong(*last, A, B, out.manifolds.emplace_back(*last));
+      carryAlong(*last, A, B, made.emplace_back(*last));
       continue;
     }
     out.scratch.clear();
     grip::collide(*A.shape, A.pose, *B.shape, B.pose, margin, out.scratch);
     for (const Manifold& m : out.scratch) {
       if (m.pointCount == 0) continue;
-      ContactManifold& c = out.manifolds.emplace_back();
+      ContactManifold& c = made.emplace_back();
       c.bodyA = ia, c.bodyB = ib, c.m = m;
       // Carry warm-start impulses over from last step by matching feature ids.
       auto from = cursor;
@@ -279,30 +314,29 @@ void World::Impl::narrowphase(size_t begin, size_t end, double dt,
       if (carriable) remember(relative, margin, A, B, c);
     }
   }
+  out.reused = 0;
+  for (const ContactManifold& c : made) {
+    out.reused += c.reused;
+    const Body &A = bodies[c.bodyA], &B = bodies[c.bodyB];
+    if (!c.touching || A.awake == B.awake) continue;
+    const uint32_t sleeper = A.awake ? c.bodyB : c.bodyA;
+    if (bodies[sleeper].isDynamic()) out.sleepersTouched.push_back(sleeper);
+  }
 }
 
-// Last step's manifold of a pair of bodies and children, or null. `from` moves forward to the
-// first manifold not before the key, so a walk over keys in order is one pass over previous.
-const ContactManifold* World::Impl::findPrevious(ManifoldIterator& from, uint32_t ia, uint32_t ib,
+// Last step's manifold of a pair of bodies and children, or null. Each cursor moves forward to
+// the first manifold of its run not before the key, so a walk over keys in order is one pass
+// over previous.
+const ContactManifold* World::Impl::findPrevious(PreviousCursors& from, uint32_t ia, uint32_t ib,
                                                  uint32_t childA, uint32_t childB) const {
   const auto key = std::make_tuple(ia, ib, childA, childB);
-  while (from != previous.end() && from->key() < key) ++from;
-  return from != previous.end() && from->key() == key ? &*from : nullptr;
-}
-
-void World::Impl::inChunks(size_t count, size_t perChunk,
-                           const std::function<void(size_t, size_t, size_t)>& task) {
-  const size_t chunks = (count + perChunk - 1) / perChunk;
-  auto one = [&](int chunk) {
-    const size_t c = static_cast<size_t>(chunk);
-    task(c * perChunk, std::min(count, (c + 1) * perChunk), c);
-  };
-  if (def.workerThreads > 1 && chunks > 1) {
-    if (!workers.pool) workers.pool = std::make_unique<detail::Workers>(def.workerThreads);
-    workers.pool->run(static_cast<int>(chunks), one);
-  } else {
-    for (size_t c = 0; c < chunks; ++c) one(static_cast<int>(c));
+  for (int run = 0; run < 3; ++run) {
+    const std::vector<ContactManifold>& list = previous.run[run];
+    size_t& i = from[static_cast<size_t>(run)];
+    while (i < list.size() && list[i].key() < key) ++i;
+    if (i < list.size() && list[i].key() == key) return &list[i];
   }
+  return nullptr;
 }
 
 // ---- events -------------------------------------------------------------------------------
@@ -313,13 +347,22 @@ struct PairTouch {
   const ContactManifold* first;  // the first touching manifold of the pair
 };
 
-void touchingPairs(const std::vector<ContactManifold>& list, std::vector<PairTouch>& out) {
+// The touching pairs of every run (a pair's manifolds are all in one run), merged in key order.
+void touchingPairs(const detail::ContactRuns& list, std::vector<PairTouch>& out) {
   out.clear();
-  for (const ContactManifold& c : list) {
-    if (!c.touching) continue;
-    if (!out.empty() && out.back().key == c.pairKey()) continue;
-    out.push_back({c.pairKey(), &c});
+  long ends[3] = {};
+  for (int run = 0; run < 3; ++run) {
+    const size_t runStart = out.size();
+    for (const ContactManifold& c : list.run[run]) {
+      if (!c.touching) continue;
+      if (out.size() > runStart && out.back().key == c.pairKey()) continue;
+      out.push_back({c.pairKey(), &c});
+    }
+    ends[run] = static_cast<long>(out.size());
   }
+  auto less = [](const PairTouch& x, const PairTouch& y) { return x.key < y.key; };
+  std::inplace_merge(out.begin(), out.begin() + ends[0], out.begin() + ends[1], less);
+  std::inplace_merge(out.begin(), out.begin() + ends[1], out.end(), less);
 }
 }  // namespace
 
@@ -397,13 +440,13 @@ void World::Impl::updateSleep(double dt) {
   const uint32_t n = static_cast<uint32_t>(bodies.size());
   parent.resize(n);
   std::iota(parent.begin(), parent.end(), 0u);
-  for (const ContactManifold& c : contacts) {
-    if (!c.touching) continue;
+  contacts.forEach([&](const ContactManifold& c) {
+    if (!c.touching) return;
     const Body &A = bodies[c.bodyA], &B = bodies[c.bodyB];
-    if (!A.isDynamic() || !B.isDynamic() || !A.awake || !B.awake) continue;
+    if (!A.isDynamic() || !B.isDynamic() || !A.awake || !B.awake) return;
     const uint32_t ra = findRoot(parent, c.bodyA), rb = findRoot(parent, c.bodyB);
     if (ra != rb) parent[std::max(ra, rb)] = std::min(ra, rb);
-  }
+  });
   islandSleepTime.assign(n, 1e300);
   for (uint32_t i : awakeBodies) {
     Body& b = bodies[i];

@@ -34,10 +34,6 @@ void Workers::guarded(int arg) {
   }
 }
 
-void Workers::takeChunks() {
-  for (int c = next_.fetch_add(1); c < chunks_; c = next_.fetch_add(1)) guarded(c);
-}
-
 void Workers::helperLoop(int index) {
   using Clock = std::chrono::steady_clock;
   unsigned seen = 0;
@@ -50,19 +46,13 @@ void Workers::helperLoop(int index) {
     }
     seen = now;
     if (stopping_.load()) return;
-    if (each_)
-      guarded(index);
-    else
-      takeChunks();
+    guarded(index);
     busy_.fetch_sub(1, std::memory_order_release);
   }
 }
 
-void Workers::start(const std::function<void(int)>& task, int chunks, bool each) {
+void Workers::start(const std::function<void(int)>& task) {
   task_ = &task;
-  chunks_ = chunks;
-  each_ = each;
-  next_.store(0);
   error_ = nullptr;
   busy_.store(static_cast<int>(helpers_.size()), std::memory_order_relaxed);
   posted_.fetch_add(1, std::memory_order_release);
@@ -75,22 +65,12 @@ void Workers::finish() {
   if (error_) std::rethrow_exception(error_);
 }
 
-void Workers::run(int chunks, const std::function<void(int)>& task) {
-  if (helpers_.empty() || chunks <= 1) {
-    for (int c = 0; c < chunks; ++c) task(c);
-    return;
-  }
-  start(task, chunks, false);
-  takeChunks();
-  finish();
-}
-
 void Workers::runEach(const std::function<void(int)>& task) {
   if (helpers_.empty()) {
     task(0);
     return;
   }
-  start(task, 0, true);
+  start(task);
   guarded(0);
   finish();
 }

@@ -1,8 +1,7 @@
-// A small pool of worker threads for the step's independent work: the narrowphase and the
-// solve's two regions. Work is cut into numbered chunks (or one share per thread) and every
-// chunk writes only its own output, so the result does not depend on which thread ran which
-// chunk, nor on how many threads there are: a run with 2 threads is bit-identical to a run
-// with 1.
+// A small pool of worker threads for the step's two regions (their narrowphase and their
+// solve). Each thread gets its own share and writes only its own output, and one thread runs
+// the shares one after the other in the same order, so the result does not depend on how many
+// threads there are: a run with 2 threads is bit-identical to a run with 1.
 #pragma once
 
 #include <atomic>
@@ -22,19 +21,15 @@ class Workers {
   Workers& operator=(const Workers&) = delete;
 
   int threads() const { return static_cast<int>(helpers_.size()) + 1; }
-  // Runs task(chunk) for every chunk in [0, chunks), each taken by whichever thread is free;
-  // returns when all have run. The calling thread takes chunks too. An exception from a task
-  // is rethrown here (the first one).
-  void run(int chunks, const std::function<void(int)>& task);
-  // Runs task(t) on thread t for every t in [0, threads()), the calling thread being 0: a
-  // share given to the same thread step after step finds its data in that thread's cache.
+  // Runs task(t) on thread t for every t in [0, threads()), the calling thread being 0, and
+  // returns when all have run: a share given to the same thread step after step finds its data
+  // in that thread's cache. An exception from a task is rethrown here (the first one).
   void runEach(const std::function<void(int)>& task);
 
  private:
-  void start(const std::function<void(int)>& task, int chunks, bool each);
+  void start(const std::function<void(int)>& task);
   void finish();
   void helperLoop(int index);
-  void takeChunks();
   void guarded(int arg);
 
   std::vector<std::thread> helpers_;
@@ -42,11 +37,8 @@ class Workers {
   // each before it sleeps: waking a sleeping thread takes tens of microseconds on a VM.
   std::atomic<unsigned> posted_{0};  // bumped for every job
   std::atomic<int> busy_{0};         // helpers still inside the current job
-  std::atomic<int> next_{0};
   std::atomic<bool> stopping_{false};
   const std::function<void(int)>* task_ = nullptr;
-  int chunks_ = 0;
-  bool each_ = false;
   std::mutex errorMutex_;
   std::exception_ptr error_;
 };

@@ -192,13 +192,14 @@ BodyId World::createBody(const BodyDef& d) {
 void World::destroyBody(BodyId id) {
   Body& b = impl_->body(id, "destroyBody.id");
   // Wake whatever rested on it, then drop its contacts.
-  for (const auto& c : impl_->contacts) {
+  impl_->contacts.forEach([&](const detail::ContactManifold& c) {
     if (c.bodyA == id.index) impl_->wakeBody(c.bodyB);
     if (c.bodyB == id.index) impl_->wakeBody(c.bodyA);
-  }
-  std::erase_if(impl_->contacts, [&](const detail::ContactManifold& c) {
-    return c.bodyA == id.index || c.bodyB == id.index;
   });
+  for (auto& run : impl_->contacts.run)
+    std::erase_if(run, [&](const detail::ContactManifold& c) {
+      return c.bodyA == id.index || c.bodyB == id.index;
+    });
   std::erase_if(impl_->sensorPairs, [&](const detail::SensorPair& p) {
     return p.sensor == id.index || p.visitor == id.index;
   });
@@ -586,13 +587,14 @@ std::vector<Manifold> World::contactManifolds(BodyId a, BodyId b) const {
   const uint64_t key =
       flip ? detail::makePairKey(b.index, a.index) : detail::makePairKey(a.index, b.index);
   std::vector<Manifold> out;
-  const auto& list = impl_->contacts;  // in key order
-  auto it = std::lower_bound(
-      list.begin(), list.end(), key,
-      [](const detail::ContactManifold& c, uint64_t k) { return c.pairKey() < k; });
-  for (; it != list.end() && it->pairKey() == key; ++it) {
-    Manifold& m = out.emplace_back(it->m);
-    if (flip) m.normal = -m.normal, std::swap(m.childA, m.childB);
+  for (const auto& list : impl_->contacts.run) {  // each in key order; the pair in one
+    auto it = std::lower_bound(
+        list.begin(), list.end(), key,
+        [](const detail::ContactManifold& c, uint64_t k) { return c.pairKey() < k; });
+    for (; it != list.end() && it->pairKey() == key; ++it) {
+      Manifold& m = out.emplace_back(it->m);
+      if (flip) m.normal = -m.normal, std::swap(m.childA, m.childB);
+    }
   }
   return out;
 }

@@ -2,6 +2,7 @@
 // data lives in flat arrays rebuilt each step in a fixed order, so results are deterministic.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -54,6 +55,7 @@ struct Body {
   std::string name;
   Aabb aabb;
   int solverIndex = 0;      // index into the step's solver bodies (0: the static body)
+  uint8_t region = 0;       // this step's region when it moves, else kNoRegion (assignRegions)
   double turnTravel = 0.0;  // m, how far its points can move by turning this step (collide)
   Vec3 acceleration = Vec3::Zero();  // from gravity and the applied loads this step (collide)
 
@@ -81,7 +83,7 @@ struct PointState {
   double normalImpulse = 0.0;
 };
 
-// Regions of the solve (World::Impl::splitRegions).
+// Regions of the step (World::Impl::assignRegions).
 constexpr uint8_t kAcross = 2;         // a manifold between the two regions
 constexpr uint8_t kNoRegion = 3;       // an immovable solver body (the world), in neither region
 constexpr size_t kRegionBodies = 256;  // fewer awake bodies stay one region
@@ -173,7 +175,8 @@ struct alignas(64) SolverManifold {
   bool rowsReady = false;  // the basis, friction rows and patch solve are prepared (prepareRows)
   bool bouncy = false;     // restitution != 0 (restitution itself is in the next cache line)
 
-  int source = 0;  // index into the contact manifold list
+  int source = 0;         // index into its run of the contact list
+  uint8_t sourceRun = 0;  // which run (ContactRuns)
   double staticFriction = 0.0, dynamicFriction = 0.0, restitution = 0.0;
   double twistRadius = 0.0;  // mean distance of the points from the patch centre
   bool sliding = false;
@@ -235,10 +238,26 @@ struct SensorPair {
   bool operator==(const SensorPair& o) const { return sensor == o.sensor && visitor == o.visitor; }
 };
 
-// What one chunk of the narrowphase's pairs found (see World::Impl::narrowphase).
+// A step's contact manifolds in three runs, each in key order: the pairs of region 0 and
+// of region 1 (by the region of the pair's first moving body; each region's narrowphase
+// runs on the thread that solves it, so its manifolds stay in that thread's cache), then
+// the contacts kept between bodies that did not move. One region: run 1 is empty.
+struct ContactRuns {
+  static constexpr int kKept = 2;
+  std::vector<ContactManifold> run[3];
+
+  template <class Each>
+  void forEach(const Each& each) const {
+    for (const std::vector<ContactManifold>& r : run)
+      for (const ContactManifold& c : r) each(c);
+  }
+};
+
+// What one region's narrowphase found besides manifolds (see World::Impl::narrowphase).
 struct NarrowphaseChunk {
-  std::vector<ContactManifold> manifolds;
   std::vector<SensorPair> sensorPairs;
+  std::vector<uint32_t> sleepersTouched;  // sleeping bodies a touching contact must wake
+  int reused = 0;
   std::vector<Manifold> scratch;
 };
 
@@ -260,8 +279,12 @@ struct World::Impl {
   std::vector<uint8_t> proxyActive;
   std::vector<uint32_t> proxyBody;
   std::vector<std::pair<uint32_t, uint32_t>> pairs;
-  std::vector<Manifold> scratch;  // for queries
-  std::vector<detail::NarrowphaseChunk> narrowphaseChunks;
+  std::vector<Manifold> scratch;               // for queries
+  detail::NarrowphaseChunk narrowphaseOut[2];  // per region
+  int regionCount = 1;                         // this step's (assignRegions)
+  std::vector<uint32_t> regionSlots;           // the moving bodies (assignRegions)
+  std::vector<double> regionScratch;
+  size_t regionPairEnd = 0;  // pairs: region 0's, then region 1's
   // Made on first use when def.workerThreads > 1. Threads are no part of the state: a copy of
   // the world starts without them.
   struct OwnWorkers {
@@ -273,8 +296,8 @@ struct World::Impl {
     OwnWorkers& operator=(OwnWorkers&&) = default;
   } workers;
 
-  std::vector<detail::ContactManifold> contacts;  // sorted by key
-  std::vector<detail::ContactManifold> previous;
+  detail::ContactRuns contacts;
+  detail::ContactRuns previous;  // last step's
   std::vector<detail::SensorPair> sensorPairs, previousSensorPairs;
 
   std::vector<detail::SolverBody> solverBodies;
@@ -313,18 +336,18 @@ struct World::Impl {
 
   // Stages of one step (see step.cpp).
   bool collide(double dt);  // true when it woke a sleeping body
-  using ManifoldIterator = std::vector<detail::ContactManifold>::const_iterator;
-  const detail::ContactManifold* findPrevious(ManifoldIterator& from, uint32_t ia, uint32_t ib,
+  void assignRegions();
+  // A cursor per run of previous, all walked forward along pairs in key order.
+  using PreviousCursors = std::array<size_t, 3>;
+  const detail::ContactManifold* findPrevious(PreviousCursors& from, uint32_t ia, uint32_t ib,
                                               uint32_t childA, uint32_t childB) const;
-  void narrowphase(size_t beginPair, size_t endPair, double dt,
-                   detail::NarrowphaseChunk& out) const;
-  // task(begin, end, chunk) for [0, count) cut into chunks of perChunk, on the workers when
-  // there are any and more than one chunk (see workers.hpp).
-  void inChunks(size_t count, size_t perChunk,
-                const std::function<void(size_t, size_t, size_t)>& task);
+  void narrowphase(int region, double dt);
   void contactEvents();
   void solve(double dt);
   void splitRegions();
+  detail::ContactManifold& sourceOf(const detail::SolverManifold& m) {
+    return contacts.run[m.sourceRun][static_cast<size_t>(m.source)];
+  }
   // work(0) and work(1) at once on two threads (regions split, workerThreads > 1), else one
   // after the other: the same result.
   template <class Work>
@@ -353,5 +376,17 @@ struct World::Impl {
   void refreshBounds(detail::Body& b) const;
   bool calm(const detail::Body& b, double dt) const;
 };
+
+template <class Work>
+void World::Impl::inBothRegions(const Work& work) {
+  if (def.workerThreads > 1 && regionCount == 2) {
+    if (!workers.pool) workers.pool = std::make_unique<detail::Workers>(def.workerThreads);
+    workers.pool->runEach([&work](int thread) {  // (small enough for std::function's own store)
+      if (thread < 2) work(thread);
+    });
+  } else {
+    work(0), work(1);
+  }
+}
 
 }  // namespace grip

@@ -88,11 +88,10 @@ TEST(Determinism, HashSeesTheSmallestChange) {
   EXPECT_NE(run(0.0), run(1.0));
 }
 
-// The narrowphase is shared out over WorldDef::workerThreads in chunks that each write only
-// their own output, and the solve of 256 awake bodies or more runs in two regions, one per
-// thread, with the manifolds across the cut after both: the run must be the same bit for bit
-// with any number of threads. A 400-box pile (two regions while it falls and settles) with a
-// sensor in it (sensor pairs go through the chunks too).
+// With 256 moving bodies or more, the narrowphase and the solve run in two regions, one per
+// thread, each writing only its own output, with the manifolds across the cut after both: the
+// run must be the same bit for bit with any number of threads. A 400-box pile (two regions
+// while it falls and settles) with a sensor in it (sensor pairs go through the regions too).
 TEST(Determinism, AnyNumberOfThreadsGivesTheSameRun) {
   auto run = [](int threads) {
     WorldDef def;

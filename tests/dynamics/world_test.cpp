@@ -4,6 +4,8 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <map>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -749,6 +751,66 @@ TEST(Events, ContactBeginsOnLandingAndEndsOnLift) {
     ends += static_cast<int>(w.contactEndEvents().size());
   }
   EXPECT_EQ(ends, 1);
+}
+
+// A world of 256 moving bodies or more keeps its contacts in one list per region (each made
+// and solved on its region's thread) and one of the contacts kept between resting bodies:
+// the events still come in key order, every pair the events say touches has a touching
+// manifold, and destroying a body drops its contacts from whichever list holds them.
+TEST(Events, AgreeWithTheManifoldsInAWorldOfTwoRegions) {
+  WorldDef def;
+  def.workerThreads = 2;
+  World w(def);
+  const BodyId ground = scenes::addGround(w);
+  const std::vector<BodyId> boxes = scenes::addBoxPile(w, 400);
+  auto key = [](const ContactEvent& e) {
+    return std::make_pair(std::min(e.a.index, e.b.index), std::max(e.a.index, e.b.index));
+  };
+  std::map<uint32_t, BodyId> idOf{{ground.index, ground}};
+  for (BodyId b : boxes) idOf[b.index] = b;
+  std::set<std::pair<uint32_t, uint32_t>> touching;
+  int twoRegionSteps = 0;
+  auto touches = [&](uint32_t a, uint32_t b) {
+    for (const Manifold& m : w.contactManifolds(idOf.at(a), idOf.at(b)))
+      for (int k = 0; k < m.pointCount; ++k)
+        if (m.points[k].separation < 1e-3) return true;
+    return false;
+  };
+  for (int i = 0; i < 240; ++i) {
+    w.step(1.0 / 60.0);
+    twoRegionSteps += w.stats().solveRegions == 2;
+    for (const auto* events : {&w.contactBeginEvents(), &w.contactEndEvents()}) {
+      for (size_t k = 1; k < events->size(); ++k)
+        ASSERT_LT(key((*events)[k - 1]), key((*events)[k])) << "events out of key order";
+    }
+    for (const ContactEvent& e : w.contactEndEvents()) ASSERT_EQ(touching.erase(key(e)), 1u);
+    for (const ContactEvent& e : w.contactBeginEvents())
+      ASSERT_TRUE(touching.insert(key(e)).second);
+    if (i % 40 == 39) {
+      for (const auto& [a, b] : touching) ASSERT_TRUE(touches(a, b)) << a << " " << b;
+    }
+  }
+  EXPECT_GT(twoRegionSteps, 100);
+  EXPECT_GT(touching.size(), 500u);
+  // The boxes resting on the ground find their manifolds with it.
+  int onGround = 0;
+  for (BodyId b : boxes) onGround += !w.contactManifolds(b, ground).empty();
+  EXPECT_GT(onGround, 50);
+  const BodyId gone = boxes[200];
+  int pairsOfGone = 0;
+  for (const auto& [a, b] : touching) pairsOfGone += a == gone.index || b == gone.index;
+  ASSERT_GT(pairsOfGone, 0);
+  w.destroyBody(gone);
+  for (const auto& [a, b] : touching) {
+    if (a == gone.index || b == gone.index) continue;
+    EXPECT_TRUE(touches(a, b));
+  }
+  EXPECT_THROW(w.contactManifolds(gone, ground), Error);
+  w.step(1.0 / 60.0);  // the lists without the body step on
+  for (const ContactEvent& e : w.contactBeginEvents()) {
+    EXPECT_NE(e.a, gone);
+    EXPECT_NE(e.b, gone);
+  }
 }
 
 TEST(Sensors, ReportOverlapsAndNeverMakeConstraints) {
