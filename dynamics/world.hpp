@@ -89,9 +89,9 @@ struct WorldDef {
   double timeToSleep = 0.5;            // s below the thresholds before an island sleeps
   double maxLinearSpeed = 400.0;       // m/s, a guard against blow-ups
   double maxAngularSpeed = 200.0;      // rad/s, the same for spin (PhysX: 100, Jolt: 47)
-  // Threads a step may use, the caller's included (1..64). The narrowphase is shared out, and
-  // with 256 awake bodies or more the solve runs in two regions on two threads; the result is
-  // bit-identical for any count (docs/performance.md).
+  // Threads a step may use, the caller's included (1..64). With 256 moving bodies or more the
+  // narrowphase and the solve run in two regions on two threads; the result is bit-identical
+  // for any count (docs/performance.md).
   int workerThreads = 1;
 };
 
