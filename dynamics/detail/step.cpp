@@ -24,7 +24,10 @@ void World::step(double dt) {
   if (dt == 0.0) return;
   Impl& w = *impl_;
   w.beginEvents.clear(), w.endEvents.clear(), w.sensorBegin.clear(), w.sensorEnd.clear();
-  if (w.collide(dt)) w.collide(dt);  // a body woke: collide again so it sees its resting contacts
+  // A body woke: collide again so its island sees its resting contacts (and so on, should
+  // that island touch another sleeping one; each round wakes one more island, so it ends).
+  while (w.collide(dt)) {
+  }
   w.contactEvents();
   w.solve(dt);
   w.updateSleep(dt);

@@ -703,6 +703,38 @@ TEST(Sleep, RestingPileFallsAsleepAndWakesOnForce) {
 // half the sleep velocity: a body speeding up from rest stays awake exactly as long as its
 // speed alone would keep it awake. A box whose slope is 0.8 degrees steeper than its friction
 // cone (a = 0.15 m/s^2, past the 0.05 m/s sleep speed after 0.33 s) must not be frozen.
+// A ball lands on a sleeping box that rests on another sleeping box (each its own sleeping
+// island): the first wakes the second, which wakes the third within the same step. Each woken
+// island must meet its resting contacts in that step (measured before the fix: the step ran
+// on the last step's contacts, and all three fell 1.7 mm, the lower box into the ground).
+TEST(Sleep, AChainOfSleepingIslandsWakesWithItsContacts) {
+  World w;
+  addGround(w);
+  BodyDef box;
+  box.shape = Shape::box(Vec3::Constant(0.1));
+  box.isAwake = false;
+  box.position = Vec3(0, 0.1, 0);
+  const BodyId lower = w.createBody(box);
+  box.position = Vec3(0, 0.3, 0);
+  const BodyId upper = w.createBody(box);
+  BodyDef ball;
+  ball.shape = Shape::sphere(0.05);
+  ball.position = Vec3(0, 0.46, 0);
+  ball.linearVelocity = Vec3(0, -1, 0);
+  w.createBody(ball);
+  double lowest[2] = {1.0, 1.0};
+  bool lowerWoke = false;
+  for (int i = 0; i < 60; ++i) {
+    w.step(1.0 / 60.0);
+    lowerWoke |= w.isAwake(lower);
+    lowest[0] = std::min(lowest[0], w.pose(lower).p.y());
+    lowest[1] = std::min(lowest[1], w.pose(upper).p.y());
+  }
+  EXPECT_TRUE(lowerWoke);
+  EXPECT_GT(lowest[0], 0.1 - 1e-4);
+  EXPECT_GT(lowest[1], 0.3 - 1e-4);
+}
+
 TEST(Sleep, ABoxStartingToSlideSlowlyIsNotFrozen) {
   const double mu = 0.5, accel = 0.15;
   // Tilted gravity instead of a tilted floor: sin(t) - mu cos(t) = accel / g, i.e.
