@@ -165,14 +165,22 @@ bool World::Impl::collide(double dt) {
   // the pair's first moving body, in key order) on the thread that will solve them, into the
   // region's run of the contact list. Waking (a side effect) follows.
   assignRegions();
-  auto regionOf = [&](const std::pair<uint32_t, uint32_t>& pair) {
-    const uint8_t a = bodies[proxyBody[pair.first]].region;
-    return a != detail::kNoRegion ? a : bodies[proxyBody[pair.second]].region;
-  };
-  regionPairEnd = static_cast<size_t>(
-      std::stable_partition(pairs.begin(), pairs.end(),
-                            [&](const auto& pair) { return regionOf(pair) != 1; }) -
-      pairs.begin());
+  regionPairEnd = pairs.size();
+  if (regionCount == 2) {  // region 1's pairs to the end, in order (a stable partition)
+    regionOnePairs.clear();
+    size_t kept = 0;
+    for (const auto& pair : pairs) {
+      const uint8_t a = bodies[proxyBody[pair.first]].region;
+      const uint8_t region = a != detail::kNoRegion ? a : bodies[proxyBody[pair.second]].region;
+      if (region == 1)
+        regionOnePairs.push_back(pair);
+      else
+        pairs[kept++] = pair;
+    }
+    regionPairEnd = kept;
+    std::copy(regionOnePairs.begin(), regionOnePairs.end(),
+              pairs.begin() + static_cast<long>(kept));
+  }
   inBothRegions([&](int region) { narrowphase(region, dt); });
   bool woke = false;
   stats.reusedManifolds = 0;

@@ -284,7 +284,8 @@ struct World::Impl {
   int regionCount = 1;                         // this step's (assignRegions)
   std::vector<uint32_t> regionSlots;           // the moving bodies (assignRegions)
   std::vector<double> regionScratch;
-  size_t regionPairEnd = 0;  // pairs: region 0's, then region 1's
+  size_t regionPairEnd = 0;                                   // pairs: region 0's, then region 1's
+  std::vector<std::pair<uint32_t, uint32_t>> regionOnePairs;  // scratch (collide)
   // Made on first use when def.workerThreads > 1. Threads are no part of the state: a copy of
   // the world starts without them.
   struct OwnWorkers {
