@@ -184,7 +184,7 @@ bool World::Impl::collide(double dt) {
   inBothRegions([&](int region) { narrowphase(region, dt); });
   bool woke = false;
   stats.reusedManifolds = 0;
-  for (const detail::NarrowphaseChunk& out : narrowphaseOut) {
+  for (const detail::NarrowphaseOut& out : narrowphaseOut) {
     sensorPairs.insert(sensorPairs.end(), out.sensorPairs.begin(), out.sensorPairs.end());
     for (uint32_t sleeper : out.sleepersTouched) {
       if (bodies[sleeper].awake) continue;  // its island woke already
@@ -243,7 +243,7 @@ void World::Impl::assignRegions() {
 }
 
 void World::Impl::narrowphase(int region, double dt) {
-  detail::NarrowphaseChunk& out = narrowphaseOut[region];
+  detail::NarrowphaseOut& out = narrowphaseOut[region];
   std::vector<ContactManifold>& made = contacts.run[region];
   out.sensorPairs.clear(), out.sleepersTouched.clear();
   const size_t begin = region == 0 ? 0 : regionPairEnd;

@@ -85,7 +85,7 @@ struct PointState {
 
 // Regions of the step (World::Impl::assignRegions).
 constexpr uint8_t kAcross = 2;         // a manifold between the two regions
-constexpr uint8_t kNoRegion = 3;       // an immovable solver body (the world), in neither region
+constexpr uint8_t kNoRegion = 3;       // a body that does not move (static, asleep), the world
 constexpr size_t kRegionBodies = 256;  // fewer awake bodies stay one region
 
 // The key of a pair of body slots, a < b.
@@ -254,7 +254,7 @@ struct ContactRuns {
 };
 
 // What one region's narrowphase found besides manifolds (see World::Impl::narrowphase).
-struct NarrowphaseChunk {
+struct NarrowphaseOut {
   std::vector<SensorPair> sensorPairs;
   std::vector<uint32_t> sleepersTouched;  // sleeping bodies a touching contact must wake
   int reused = 0;
@@ -279,10 +279,10 @@ struct World::Impl {
   std::vector<uint8_t> proxyActive;
   std::vector<uint32_t> proxyBody;
   std::vector<std::pair<uint32_t, uint32_t>> pairs;
-  std::vector<Manifold> scratch;               // for queries
-  detail::NarrowphaseChunk narrowphaseOut[2];  // per region
-  int regionCount = 1;                         // this step's (assignRegions)
-  std::vector<uint32_t> regionSlots;           // the moving bodies (assignRegions)
+  std::vector<Manifold> scratch;             // for queries
+  detail::NarrowphaseOut narrowphaseOut[2];  // per region
+  int regionCount = 1;                       // this step's (assignRegions)
+  std::vector<uint32_t> regionSlots;         // the moving bodies (assignRegions)
   std::vector<double> regionScratch;
   size_t regionPairEnd = 0;                                   // pairs: region 0's, then region 1's
   std::vector<std::pair<uint32_t, uint32_t>> regionOnePairs;  // scratch (collide)
@@ -304,9 +304,9 @@ struct World::Impl {
   std::vector<detail::SolverBody> solverBodies;
   std::vector<uint32_t> awakeBodies;  // slot indices of awake dynamic/kinematic bodies
   std::vector<detail::SolverManifold> solverManifolds;
-  // Regions (splitRegions): many awake bodies are cut in two halves across their widest
-  // extent, and the solve runs each half's own work on its own thread; the manifolds across
-  // the cut come after, on one thread. The same order with one thread or two.
+  // The solve's view of the regions (assignRegions, splitRegions): each half's solver bodies
+  // and manifolds are worked on by its own thread; the manifolds across the cut come after,
+  // on one thread. The same order with one thread or two.
   std::vector<uint8_t> solverRegion;  // per solver body: 0, 1 or kNoRegion (immovable)
   std::vector<int> regionBodies;      // awake slots (solver index - 1), region 0's first
   int regionBodyEnd = 0;              // where region 1's start in regionBodies
