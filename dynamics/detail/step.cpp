@@ -120,6 +120,14 @@ Vec3 accelerationOf(const Body& b, const Vec3& gravity, double dt) {
   return detail::limitLength(b.loadAcceleration(gravity), 1.0 / (dt * dt));
 }
 
+// v holds three runs, each sorted, ending at ends[0..2]: one sorted list after.
+template <class T, class Less>
+void mergeRuns(std::vector<T>& v, const size_t (&ends)[3], const Less& less) {
+  const auto at = [&](size_t i) { return v.begin() + static_cast<long>(i); };
+  std::inplace_merge(v.begin(), at(ends[0]), at(ends[1]), less);
+  std::inplace_merge(v.begin(), at(ends[1]), at(ends[2]), less);
+}
+
 bool carriesOver(const std::vector<Body>& bodies, const ContactManifold& c) {
   // Contacts among sleeping and static bodies are not recomputed; keep them as they were.
   const Body &a = bodies[c.bodyA], &b = bodies[c.bodyB];
@@ -195,15 +203,14 @@ bool World::Impl::collide(double dt) {
   }
   // Keep contacts between bodies that did not move (sleeping or static), in key order.
   std::vector<ContactManifold>& kept = contacts.run[detail::ContactRuns::kKept];
-  long ends[3] = {};
+  size_t ends[3] = {};
   for (int run = 0; run < 3; ++run) {
     for (const ContactManifold& c : previous.run[run])
       if (carriesOver(bodies, c)) kept.push_back(c);
-    ends[run] = static_cast<long>(kept.size());
+    ends[run] = kept.size();
   }
-  auto less = [](const ContactManifold& x, const ContactManifold& y) { return x.keyLess(y); };
-  std::inplace_merge(kept.begin(), kept.begin() + ends[0], kept.begin() + ends[1], less);
-  std::inplace_merge(kept.begin(), kept.begin() + ends[1], kept.end(), less);
+  mergeRuns(kept, ends,
+            [](const ContactManifold& x, const ContactManifold& y) { return x.keyLess(y); });
   if (woke) {  // collide again from the same warm-start memory
     std::swap(previous, contacts);
     previousSensorPairs.swap(sensorPairs);
@@ -255,13 +262,8 @@ void World::Impl::narrowphase(int region, double dt) {
   if (begin < end) {
     const uint64_t first =
         detail::makePairKey(proxyBody[pairs[begin].first], proxyBody[pairs[begin].second]);
-    for (int run = 0; run < 3; ++run) {
-      const std::vector<ContactManifold>& list = previous.run[run];
-      cursor[run] = static_cast<size_t>(
-          std::lower_bound(list.begin(), list.end(), first,
-                           [](const ContactManifold& c, uint64_t k) { return c.pairKey() < k; }) -
-          list.begin());
-    }
+    for (int run = 0; run < 3; ++run)
+      cursor[static_cast<size_t>(run)] = previous.firstOf(run, first);
   }
   for (size_t pair = begin; pair < end; ++pair) {
     const uint32_t ia = proxyBody[pairs[pair].first], ib = proxyBody[pairs[pair].second];
@@ -361,7 +363,7 @@ struct PairTouch {
 // The touching pairs of every run (a pair's manifolds are all in one run), merged in key order.
 void touchingPairs(const detail::ContactRuns& list, std::vector<PairTouch>& out) {
   out.clear();
-  long ends[3] = {};
+  size_t ends[3] = {};
   for (int run = 0; run < 3; ++run) {
     const size_t runStart = out.size();
     for (const ContactManifold& c : list.run[run]) {
@@ -369,11 +371,9 @@ void touchingPairs(const detail::ContactRuns& list, std::vector<PairTouch>& out)
       if (out.size() > runStart && out.back().key == c.pairKey()) continue;
       out.push_back({c.pairKey(), &c});
     }
-    ends[run] = static_cast<long>(out.size());
+    ends[run] = out.size();
   }
-  auto less = [](const PairTouch& x, const PairTouch& y) { return x.key < y.key; };
-  std::inplace_merge(out.begin(), out.begin() + ends[0], out.begin() + ends[1], less);
-  std::inplace_merge(out.begin(), out.begin() + ends[1], out.end(), less);
+  mergeRuns(out, ends, [](const PairTouch& x, const PairTouch& y) { return x.key < y.key; });
 }
 }  // namespace
 

@@ -587,12 +587,11 @@ std::vector<Manifold> World::contactManifolds(BodyId a, BodyId b) const {
   const uint64_t key =
       flip ? detail::makePairKey(b.index, a.index) : detail::makePairKey(a.index, b.index);
   std::vector<Manifold> out;
-  for (const auto& list : impl_->contacts.run) {  // each in key order; the pair in one
-    auto it = std::lower_bound(
-        list.begin(), list.end(), key,
-        [](const detail::ContactManifold& c, uint64_t k) { return c.pairKey() < k; });
-    for (; it != list.end() && it->pairKey() == key; ++it) {
-      Manifold& m = out.emplace_back(it->m);
+  for (int run = 0; run < 3; ++run) {  // each in key order; the pair is in one of them
+    const auto& list = impl_->contacts.run[run];
+    for (size_t i = impl_->contacts.firstOf(run, key); i < list.size() && list[i].pairKey() == key;
+         ++i) {
+      Manifold& m = out.emplace_back(list[i].m);
       if (flip) m.normal = -m.normal, std::swap(m.childA, m.childB);
     }
   }

@@ -2,6 +2,7 @@
 // data lives in flat arrays rebuilt each step in a fixed order, so results are deterministic.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <functional>
@@ -250,6 +251,13 @@ struct ContactRuns {
   void forEach(const Each& each) const {
     for (const std::vector<ContactManifold>& r : run)
       for (const ContactManifold& c : r) each(c);
+  }
+  // Index of the first manifold of run r whose pair is not before `pairKey`.
+  size_t firstOf(int r, uint64_t pairKey) const {
+    const auto first =
+        std::lower_bound(run[r].begin(), run[r].end(), pairKey,
+                         [](const ContactManifold& c, uint64_t key) { return c.pairKey() < key; });
+    return static_cast<size_t>(first - run[r].begin());
   }
 };
 
