@@ -128,9 +128,9 @@ void mergeRuns(std::vector<T>& v, const size_t (&ends)[3], const Less& less) {
   std::inplace_merge(v.begin(), at(ends[1]), at(ends[2]), less);
 }
 
-bool carriesOver(const std::vector<Body>& bodies, const ContactManifold& c) {
+bool carriesOver(const std::vector<Body>& bodies, uint64_t pairKey) {
   // Contacts among sleeping and static bodies are not recomputed; keep them as they were.
-  const Body &a = bodies[c.bodyA], &b = bodies[c.bodyB];
+  const Body &a = bodies[pairKey >> 32], &b = bodies[pairKey & 0xffffffffu];
   return a.alive && b.alive && !a.awake && !b.awake;
 }
 }  // namespace
@@ -202,15 +202,17 @@ bool World::Impl::collide(double dt) {
     stats.reusedManifolds += out.reused;
   }
   // Keep contacts between bodies that did not move (sleeping or static), in key order.
-  std::vector<ContactManifold>& kept = contacts.run[detail::ContactRuns::kKept];
+  detail::ContactRuns::Run& kept = contacts.run[detail::ContactRuns::kKept];
   size_t ends[3] = {};
   for (int run = 0; run < 3; ++run) {
-    for (const ContactManifold& c : previous.run[run])
-      if (carriesOver(bodies, c)) kept.push_back(c);
+    const detail::ContactRuns::Run& list = previous.run[run];
+    for (size_t i = 0; i < list.size(); ++i)
+      if (carriesOver(bodies, list.pairKeys[i])) kept.push_back(list[i]);
     ends[run] = kept.size();
   }
   mergeRuns(kept, ends,
             [](const ContactManifold& x, const ContactManifold& y) { return x.keyLess(y); });
+  kept.indexKeys();
   if (woke) {  // collide again from the same warm-start memory
     std::swap(previous, contacts);
     previousSensorPairs.swap(sensorPairs);
@@ -251,7 +253,7 @@ void World::Impl::assignRegions() {
 
 void World::Impl::narrowphase(int region, double dt) {
   detail::NarrowphaseOut& out = narrowphaseOut[region];
-  std::vector<ContactManifold>& made = contacts.run[region];
+  detail::ContactRuns::Run& made = contacts.run[region];
   out.sensorPairs.clear(), out.sleepersTouched.clear();
   const size_t begin = region == 0 ? 0 : regionPairEnd;
   const size_t end = region == 0 ? regionPairEnd : pairs.size();
@@ -327,6 +329,7 @@ void World::Impl::narrowphase(int region, double dt) {
       if (carriable) remember(relative, margin, A, B, c);
     }
   }
+  made.indexKeys();
   out.reused = 0;
   for (const ContactManifold& c : made) {
     out.reused += c.reused;
@@ -337,17 +340,19 @@ void World::Impl::narrowphase(int region, double dt) {
   }
 }
 
-// Last step's manifold of a pair of bodies and children, or null. Each cursor moves forward to
-// the first manifold of its run not before the key, so a walk over keys in order is one pass
-// over previous.
+// Last step's manifold of a pair of bodies and children, or null. Each cursor moves forward
+// along its run's pair keys to the pair's first manifold (or past where it would be), so a
+// walk over pairs in order is one pass over the keys.
 const ContactManifold* World::Impl::findPrevious(PreviousCursors& from, uint32_t ia, uint32_t ib,
                                                  uint32_t childA, uint32_t childB) const {
+  const uint64_t pair = detail::makePairKey(ia, ib);
   const auto key = std::make_tuple(ia, ib, childA, childB);
   for (int run = 0; run < 3; ++run) {
-    const std::vector<ContactManifold>& list = previous.run[run];
+    const detail::ContactRuns::Run& list = previous.run[run];
     size_t& i = from[static_cast<size_t>(run)];
-    while (i < list.size() && list[i].key() < key) ++i;
-    if (i < list.size() && list[i].key() == key) return &list[i];
+    while (i < list.size() && list.pairKeys[i] < pair) ++i;
+    for (size_t j = i; j < list.size() && list.pairKeys[j] == pair; ++j)  // one per child pair
+      if (list[j].key() == key) return &list[j];
   }
   return nullptr;
 }

@@ -196,10 +196,12 @@ void World::destroyBody(BodyId id) {
     if (c.bodyA == id.index) impl_->wakeBody(c.bodyB);
     if (c.bodyB == id.index) impl_->wakeBody(c.bodyA);
   });
-  for (auto& run : impl_->contacts.run)
+  for (auto& run : impl_->contacts.run) {
     std::erase_if(run, [&](const detail::ContactManifold& c) {
       return c.bodyA == id.index || c.bodyB == id.index;
     });
+    run.indexKeys();
+  }
   std::erase_if(impl_->sensorPairs, [&](const detail::SensorPair& p) {
     return p.sensor == id.index || p.visitor == id.index;
   });
