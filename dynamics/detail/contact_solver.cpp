@@ -1045,6 +1045,7 @@ void World::Impl::prepareContacts() {
     }
   }
   solverManifolds.resize(byRegion[0].size() + byRegion[1].size() + byRegion[2].size());
+  links.resize(solverManifolds.size());
   manifoldEnd[0] = static_cast<int>(byRegion[0].size());
   manifoldEnd[1] = manifoldEnd[0] + static_cast<int>(byRegion[1].size());
   // Each region's thread prepares the manifolds it solves (the first one those across too).
@@ -1055,6 +1056,12 @@ void World::Impl::prepareContacts() {
       SolverManifold& m = solverManifolds[i++];
       m.sourceRun = run, m.source = ci, m.region = region;
       prepareManifold(m);
+      links[static_cast<size_t>(i - 1)] = {m.a,
+                                           m.b,
+                                           m.warm || m.minSeparation < def.positionSlop,
+                                           !m.warm && m.separation[0] <= 0.0,
+                                           static_cast<uint8_t>(m.count),
+                                           0};
     }
   };
   inBothRegions([&](int region) {
@@ -1062,7 +1069,7 @@ void World::Impl::prepareContacts() {
     if (region == 0) prepare(kAcross);
   });
   int points = 0;
-  for (const SolverManifold& m : solverManifolds) points += m.count;
+  for (const detail::ManifoldLink& l : links) points += l.count;
   constraintCount = points;
   stats.manifolds = static_cast<int>(solverManifolds.size());
   stats.contactPoints = points;
@@ -1334,14 +1341,13 @@ void World::Impl::computeLevels() {
   constexpr double kUnequalMass = 4.0;  // lightest vs heaviest body of an island
   levels.assign(n, kFree);
   adjacencyStart.assign(n + 1, 0);
-  for (const SolverManifold& m : solverManifolds)
-    ++adjacencyStart[m.a + 1], ++adjacencyStart[m.b + 1];
+  for (const detail::ManifoldLink& l : links) ++adjacencyStart[l.a + 1], ++adjacencyStart[l.b + 1];
   for (int i = 0; i < n; ++i) adjacencyStart[i + 1] += adjacencyStart[i];
   adjacency.resize(adjacencyStart[n]);
   fill.assign(adjacencyStart.begin(), adjacencyStart.end() - 1);
-  for (int i = 0; i < static_cast<int>(solverManifolds.size()); ++i) {
-    adjacency[fill[solverManifolds[i].a]++] = i;
-    adjacency[fill[solverManifolds[i].b]++] = i;
+  for (int i = 0; i < static_cast<int>(links.size()); ++i) {
+    adjacency[fill[links[i].a]++] = i;
+    adjacency[fill[links[i].b]++] = i;
   }
   queue.clear();
   for (int i = 0; i < n; ++i)
@@ -1350,14 +1356,14 @@ void World::Impl::computeLevels() {
   // ctx.touching), then through the rest: a speculative contact across a gap (a block two
   // layers up, 15 mm away; a 3 mm poker chip two up, within linearSlop) must not put a body
   // level with the one it rests on, or the shock pass would not order them.
-  const double supportGap = def.positionSlop;
+  // (ManifoldLink::bearing.)
   auto spread = [&](bool all) {
     for (size_t q = 0; q < queue.size(); ++q) {
       const int body = queue[q];
       for (int e = adjacencyStart[body]; e < adjacencyStart[body + 1]; ++e) {
-        const SolverManifold& m = solverManifolds[adjacency[e]];
-        if (!all && !m.warm && !(m.minSeparation < supportGap)) continue;
-        const int other = m.a == body ? m.b : m.a;
+        const detail::ManifoldLink& l = links[adjacency[e]];
+        if (!all && !l.bearing) continue;
+        const int other = l.a == body ? l.b : l.a;
         if (levels[other] == kFree) levels[other] = levels[body] + 1, queue.push_back(other);
       }
     }
@@ -1369,12 +1375,12 @@ void World::Impl::computeLevels() {
   if (queue.size() < static_cast<size_t>(n)) spread(true);
   // Manifolds from the ground up (by their lower body's level; index order within a level):
   // a counting sort, as levels are small.
-  const int count = static_cast<int>(solverManifolds.size());
+  const int count = static_cast<int>(links.size());
   int top = 0;
   for (int l : levels)
     if (l != kFree) top = std::max(top, l);
   auto lowLevel = [&](int i) {
-    const int l = std::min(levels[solverManifolds[i].a], levels[solverManifolds[i].b]);
+    const int l = std::min(levels[links[i].a], levels[links[i].b]);
     return l == kFree ? top + 1 : l;
   };
   queue.assign(top + 3, 0);  // reused scratch: manifolds per level, then first slots
@@ -1400,9 +1406,9 @@ void World::Impl::computeLevels() {
     while (islandOf[i] != i) i = islandOf[i] = islandOf[islandOf[i]];
     return i;
   };
-  for (const SolverManifold& m : solverManifolds) {
-    if (solverBodies[m.a].invMass == 0.0 || solverBodies[m.b].invMass == 0.0) continue;
-    const int ra = root(m.a), rb = root(m.b);
+  for (const detail::ManifoldLink& l : links) {
+    if (levels[l.a] == 0 || levels[l.b] == 0) continue;  // static or kinematic
+    const int ra = root(l.a), rb = root(l.b);
     if (ra != rb) islandOf[std::max(ra, rb)] = std::min(ra, rb);
   }
   islandDepth.assign(n, 0);
@@ -1415,11 +1421,11 @@ void World::Impl::computeLevels() {
     islandLightest[r] = std::max(islandLightest[r], im);
     islandHeaviest[r] = std::min(islandHeaviest[r], im);
   }
-  relaxPasses.resize(solverManifolds.size());
-  firstSubstepPasses.resize(solverManifolds.size());
-  for (size_t i = 0; i < solverManifolds.size(); ++i) {
-    const SolverManifold& m = solverManifolds[i];
-    const int body = solverBodies[m.a].invMass == 0.0 ? m.b : m.a;
+  relaxPasses.resize(links.size());
+  firstSubstepPasses.resize(links.size());
+  for (size_t i = 0; i < links.size(); ++i) {
+    const detail::ManifoldLink& l = links[i];
+    const int body = levels[l.a] == 0 ? l.b : l.a;
     const int depth = islandDepth[root(body)];
     const int extra = depth > 12 ? (2 * (depth - 10) + 4) / 5 : 0;
     const int room = std::max(0, def.maxRelaxIterations - def.relaxIterations);
@@ -1428,7 +1434,7 @@ void World::Impl::computeLevels() {
     // and tipping out of balance (a cube set on a slope jumped 0.5 mm and slid 2 % too far).
     // A few more passes in its first substep converge it; later substeps start warm.
     firstSubstepPasses[i] = relaxPasses[i];
-    if (!m.warm && relaxPasses[i] > 0 && m.separation[0] <= 0.0)
+    if (l.coldTouch && relaxPasses[i] > 0)
       firstSubstepPasses[i] =
           std::max(relaxPasses[i], std::min(kColdPasses, def.maxRelaxIterations));
   }
@@ -1442,14 +1448,14 @@ void World::Impl::computeLevels() {
   directManifolds.clear();
   std::vector<int>& points = fill;  // reused scratch: normal rows per island root
   points.assign(n, 0);
-  auto islandOfManifold = [&](const SolverManifold& m) {
-    return root(solverBodies[m.a].invMass == 0.0 ? m.b : m.a);
+  auto islandOfManifold = [&](const detail::ManifoldLink& l) {
+    return root(levels[l.a] == 0 ? l.b : l.a);
   };
-  for (const SolverManifold& m : solverManifolds) points[islandOfManifold(m)] += m.count;
+  for (const detail::ManifoldLink& l : links) points[islandOfManifold(l)] += l.count;
   std::vector<std::pair<int, int>>& tagged = directScratch;  // (island, manifold)
   tagged.clear();
-  for (size_t i = 0; i < solverManifolds.size(); ++i) {
-    const int r = islandOfManifold(solverManifolds[i]);
+  for (size_t i = 0; i < links.size(); ++i) {
+    const int r = islandOfManifold(links[i]);
     if (points[r] > kDirectRows) continue;
     if (islandLightest[r] <= kUnequalMass * islandHeaviest[r]) continue;
     tagged.emplace_back(r, static_cast<int>(i));
@@ -1469,24 +1475,24 @@ void World::Impl::computeLevels() {
   // in chains down to a static body (ground up, a body's support comes before its own).
   std::vector<int>& supports = fill;  // reused scratch
   supports.assign(n, 0);
-  auto upperOf = [](const SolverManifold& m) {
-    return m.shockMoves == static_cast<uint8_t>(Moves::OnlyA)   ? m.a
-           : m.shockMoves == static_cast<uint8_t>(Moves::OnlyB) ? m.b
+  auto upperOf = [](const detail::ManifoldLink& l) {
+    return l.shockMoves == static_cast<uint8_t>(Moves::OnlyA)   ? l.a
+           : l.shockMoves == static_cast<uint8_t>(Moves::OnlyB) ? l.b
                                                                 : -1;
   };
-  for (const SolverManifold& m : solverManifolds)
-    if (upperOf(m) >= 0) ++supports[upperOf(m)];
+  for (const detail::ManifoldLink& l : links)
+    if (upperOf(l) >= 0) ++supports[upperOf(l)];
   grounded.assign(n, 0);
   for (int i : shockOrder) {
-    const SolverManifold& m = solverManifolds[i];
-    const int upper = upperOf(m);
+    const detail::ManifoldLink& l = links[i];
+    const int upper = upperOf(l);
     if (upper < 0 || supports[upper] != 1) continue;
-    const int lower = upper == m.a ? m.b : m.a;
+    const int lower = upper == l.a ? l.b : l.a;
     grounded[upper] = solverBodies[lower].invMass == 0.0 || grounded[lower];
   }
   soleSupports.clear(), soleSupportIslands.clear();
   for (auto it = shockOrder.rbegin(); it != shockOrder.rend(); ++it) {
-    const int upper = upperOf(solverManifolds[*it]);
+    const int upper = upperOf(links[*it]);
     if (upper < 0 || supports[upper] != 1 || !grounded[upper]) continue;
     soleSupports.push_back(*it);
     soleSupportIslands.push_back(root(upper));
@@ -1509,7 +1515,7 @@ void World::Impl::prepareShock(size_t i) {
   const int la = levels[m.a], lb = levels[m.b];
   Moves moves = la < lb ? Moves::OnlyB : lb < la ? Moves::OnlyA : Moves::Both;
   if (solvedDirectly[i]) moves = Moves::Both, m.block = false, m.direct = true;
-  m.shockMoves = static_cast<uint8_t>(moves);
+  m.shockMoves = links[i].shockMoves = static_cast<uint8_t>(moves);
   m.shockReady = false;  // its coupling waits for the first shock pass (prepareShockRows)
 }
 
