@@ -9,7 +9,6 @@
 #include <cmath>
 #include <limits>
 #include <numeric>
-#include <span>
 
 #include <Eigen/Cholesky>
 
@@ -807,24 +806,7 @@ void World::Impl::solve(double dt) {
   const int substeps = def.substeps;
   const double h = dt / substeps;
 
-  // Solver bodies: index 0 is the immovable world; then every awake non-static body.
-  solverBodies.clear();
-  solverBodies.emplace_back();
-  awakeBodies.clear();
-  for (uint32_t i = 0; i < bodies.size(); ++i) {
-    Body& b = bodies[i];
-    b.solverIndex = 0;
-    if (!b.alive || !b.awake || b.type == BodyType::Static) continue;
-    b.solverIndex = static_cast<int>(solverBodies.size());
-    SolverBody s;
-    s.v = b.v, s.w = b.w;
-    s.invMass = b.invMass;
-    s.invI = b.isDynamic() ? b.invInertiaWorld() : Mat3::Zero();
-    solverBodies.push_back(s);
-    awakeBodies.push_back(i);
-  }
-
-  splitRegions();
+  setUpSolverBodies();
   prepareContacts();
   computeLevels();
   // The shock order within each region (ground up), then across.
@@ -876,11 +858,6 @@ void World::Impl::solve(double dt) {
 
   // Region r's bodies, manifolds and shock order (r = kAcross: the manifolds across the cut).
   const int manifoldCount = static_cast<int>(solverManifolds.size());
-  auto bodiesOf = [&](int r) {
-    return std::span<const int>(regionBodies)
-        .subspan(r == 0 ? 0 : regionBodyEnd,
-                 r == 0 ? regionBodyEnd : regionBodies.size() - regionBodyEnd);
-  };
   auto manifoldsOf = [&](int r, const auto& each) { forManifolds(r, each); };
   auto shocksOf = [&](int r, const auto& each) {
     const int begin = r == 0 ? 0 : shockEnd[r - 1];
@@ -1002,27 +979,44 @@ void World::Impl::warmStart(SolverBody& b, int substep) {
   b.heldV.setZero(), b.heldW.setZero();
 }
 
-// The solver bodies in their regions (assignRegions), region 0's first. Region 1 gets its own
-// immovable world: the bodies resting on the ground in both regions would otherwise write
-// (zeros) to one world body from both threads.
-void World::Impl::splitRegions() {
-  const size_t n = awakeBodies.size();
-  solverRegion.assign(solverBodies.size(), kNoRegion);
-  regionBodies.clear();
+// The solver bodies: index 0 is the immovable world, then the moving bodies in their regions
+// (assignRegions: region 0's first), each region's set up by the thread that will solve them,
+// so their cache lines stay with it. Region 1 gets its own immovable world, last: the bodies
+// resting on the ground in both regions would otherwise write (zeros) to one world body from
+// both threads.
+void World::Impl::setUpSolverBodies() {
+  awakeBodies.assign(regionSlots.begin(), regionSlots.end());
+  const int n = static_cast<int>(awakeBodies.size());
+  regionBodyEnd = static_cast<int>(regionSlotEnd);
   stats.solveRegions = regionCount;
-  for (int region = 0; region < regionCount; ++region) {
-    for (size_t k = 0; k < n; ++k) {
-      if ((bodies[awakeBodies[k]].region == 1) != (region == 1)) continue;
-      regionBodies.push_back(static_cast<int>(k));
-      solverRegion[k + 1] = static_cast<uint8_t>(region);
-    }
-    if (region == 0) regionBodyEnd = static_cast<int>(regionBodies.size());
+  solverIndexOf.assign(bodies.size(), 0);
+  solverRegion.assign(static_cast<size_t>(n + 1), kNoRegion);
+  for (int k = 0; k < n; ++k) {
+    solverIndexOf[awakeBodies[k]] = k + 1;
+    solverRegion[k + 1] = k < regionBodyEnd ? 0 : 1;
   }
-  worldTwin = 0;
-  if (regionCount == 1) return;
-  worldTwin = static_cast<int>(solverBodies.size());
-  solverBodies.emplace_back();
-  solverRegion.push_back(kNoRegion);
+  worldTwin = regionCount == 2 ? n + 1 : 0;
+  if (regionCount == 2) solverRegion.push_back(kNoRegion);
+  // (Kept from the last step, not built anew: each is set again below.)
+  solverBodies.resize(solverRegion.size());
+  solverBodies[0] = SolverBody{};
+  if (worldTwin) solverBodies[worldTwin] = SolverBody{};
+  inBothRegions([&](int region) {
+    for (int k : bodiesOf(region)) {
+      const Body& b = bodies[awakeBodies[k]];
+      SolverBody& s = solverBodies[k + 1];
+      s = SolverBody{};
+      s.v = b.v, s.w = b.w;
+      s.invMass = b.invMass;
+      s.invI = b.isDynamic() ? b.invInertiaWorld() : Mat3::Zero();
+    }
+  });
+}
+
+// Region r's awake bodies (solver index - 1).
+std::ranges::iota_view<int, int> World::Impl::bodiesOf(int region) const {
+  const int n = static_cast<int>(awakeBodies.size());
+  return region == 0 ? std::views::iota(0, regionBodyEnd) : std::views::iota(regionBodyEnd, n);
 }
 
 void World::Impl::prepareContacts() {
@@ -1036,10 +1030,11 @@ void World::Impl::prepareContacts() {
   for (uint8_t run = 0; run < 2; ++run) {
     const std::vector<ContactManifold>& list = contacts.run[run];
     for (size_t ci = 0; ci < list.size(); ++ci) {
-      const Body &A = bodies[list[ci].bodyA], &B = bodies[list[ci].bodyB];
-      if (A.solverIndex == 0 && B.solverIndex == 0) continue;
-      if (!A.isDynamic() && !B.isDynamic()) continue;
-      const uint8_t ra = solverRegion[A.solverIndex], rb = solverRegion[B.solverIndex];
+      const ContactManifold& c = list[ci];
+      const int a = solverIndexOf[c.bodyA], b = solverIndexOf[c.bodyB];
+      if (a == 0 && b == 0) continue;
+      if (!bodies[c.bodyA].isDynamic() && !bodies[c.bodyB].isDynamic()) continue;
+      const uint8_t ra = solverRegion[a], rb = solverRegion[b];
       const uint8_t region = ra == kNoRegion ? rb : rb == kNoRegion || ra == rb ? ra : kAcross;
       byRegion[region].emplace_back(run, static_cast<int>(ci));
     }
@@ -1079,7 +1074,7 @@ void World::Impl::prepareContacts() {
 void World::Impl::prepareManifold(SolverManifold& m) {
   ContactManifold& c = sourceOf(m);
   const Body &A = bodies[c.bodyA], &B = bodies[c.bodyB];
-  m.a = A.solverIndex, m.b = B.solverIndex;
+  m.a = solverIndexOf[c.bodyA], m.b = solverIndexOf[c.bodyB];
   if (m.region == 1) m.a = m.a == 0 ? worldTwin : m.a, m.b = m.b == 0 ? worldTwin : m.b;
   const Vec3 n = c.m.normal;
   m.normal = n;

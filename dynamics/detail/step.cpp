@@ -235,6 +235,7 @@ void World::Impl::assignRegions() {
   }
   const size_t n = regionSlots.size();
   regionCount = n < detail::kRegionBodies ? 1 : 2;
+  regionSlotEnd = n;
   if (regionCount == 1) return;
   Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
   for (uint32_t slot : regionSlots) {
@@ -249,6 +250,15 @@ void World::Impl::assignRegions() {
                    regionScratch.end());
   const double median = regionScratch[n / 2];
   for (uint32_t slot : regionSlots) bodies[slot].region = bodies[slot].com[axis] < median ? 0 : 1;
+  // Region 0's first (each in index order): the solve's bodies in this order keep each
+  // region's cache lines together.
+  regionOrder.clear();
+  for (uint8_t region = 0; region < 2; ++region) {
+    for (uint32_t slot : regionSlots)
+      if (bodies[slot].region == region) regionOrder.push_back(slot);
+    if (region == 0) regionSlotEnd = regionOrder.size();
+  }
+  regionSlots.swap(regionOrder);
 }
 
 void World::Impl::narrowphase(int region, double dt) {
@@ -474,9 +484,8 @@ void World::Impl::updateSleep(double dt) {
     islandSleepTime[r] = std::min(islandSleepTime[r], b.sleepTime);
   }
   int islands = 0, sleeping = 0;
-  for (uint32_t i : awakeBodies) {
-    const uint32_t r = findRoot(parent, i);
-    if (r != i) continue;
+  for (uint32_t r = 0; r < n; ++r) {  // the islands' roots, in slot order (awakeBodies is not)
+    if (solverIndexOf[r] == 0 || findRoot(parent, r) != r) continue;
     ++islands;
     if (def.enableSleep && islandSleepTime[r] >= def.timeToSleep) {
       ++sleeping;

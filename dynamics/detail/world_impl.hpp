@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <ranges>
 #include <string>
 #include <tuple>
 #include <vector>
@@ -55,7 +56,6 @@ struct Body {
   uint64_t userData = 0;
   std::string name;
   Aabb aabb;
-  int solverIndex = 0;      // index into the step's solver bodies (0: the static body)
   uint8_t region = 0;       // this step's region when it moves, else kNoRegion (assignRegions)
   double turnTravel = 0.0;  // m, how far its points can move by turning this step (collide)
   Vec3 acceleration = Vec3::Zero();  // from gravity and the applied loads this step (collide)
@@ -314,7 +314,9 @@ struct World::Impl {
   std::vector<Manifold> scratch;             // for queries
   detail::NarrowphaseOut narrowphaseOut[2];  // per region
   int regionCount = 1;                       // this step's (assignRegions)
-  std::vector<uint32_t> regionSlots;         // the moving bodies (assignRegions)
+  std::vector<uint32_t> regionSlots;         // the moving bodies, region 0's first (assignRegions)
+  size_t regionSlotEnd = 0;                  // where region 1's start in regionSlots
+  std::vector<uint32_t> regionOrder;         // scratch (assignRegions)
   std::vector<double> regionScratch;
   size_t regionPairEnd = 0;                                   // pairs: region 0's, then region 1's
   std::vector<std::pair<uint32_t, uint32_t>> regionOnePairs;  // scratch (collide)
@@ -334,14 +336,14 @@ struct World::Impl {
   std::vector<detail::SensorPair> sensorPairs, previousSensorPairs;
 
   std::vector<detail::SolverBody> solverBodies;
-  std::vector<uint32_t> awakeBodies;  // slot indices of awake dynamic/kinematic bodies
+  std::vector<uint32_t> awakeBodies;  // the solver bodies' slots (solver index - 1)
+  std::vector<int> solverIndexOf;     // per body slot: its solver index (0: the static body)
   std::vector<detail::SolverManifold> solverManifolds;
-  // The solve's view of the regions (assignRegions, splitRegions): each half's solver bodies
+  // The solve's view of the regions (assignRegions, setUpSolverBodies): each half's solver bodies
   // and manifolds are worked on by its own thread; the manifolds across the cut come after,
   // on one thread. The same order with one thread or two.
   std::vector<uint8_t> solverRegion;  // per solver body: 0, 1 or kNoRegion (immovable)
-  std::vector<int> regionBodies;      // awake slots (solver index - 1), region 0's first
-  int regionBodyEnd = 0;              // where region 1's start in regionBodies
+  int regionBodyEnd = 0;              // awakeBodies: region 0's before, region 1's from here
   int manifoldEnd[2] = {0, 0};        // solverManifolds: region 0, region 1, then across
   int shockEnd[2] = {0, 0};           // the same for shockOrder
   int worldTwin = 0;                  // the world as region 1's manifolds see it
@@ -378,7 +380,8 @@ struct World::Impl {
   void narrowphase(int region, double dt);
   void contactEvents();
   void solve(double dt);
-  void splitRegions();
+  void setUpSolverBodies();
+  std::ranges::iota_view<int, int> bodiesOf(int region) const;  // (setUpSolverBodies)
   detail::ContactManifold& sourceOf(const detail::SolverManifold& m) {
     return contacts.run[m.sourceRun][static_cast<size_t>(m.source)];
   }
