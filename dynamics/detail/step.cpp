@@ -381,10 +381,11 @@ void touchingPairs(const detail::ContactRuns& list, std::vector<PairTouch>& out)
   size_t ends[3] = {};
   for (int run = 0; run < 3; ++run) {
     const size_t runStart = out.size();
-    for (const ContactManifold& c : list.run[run]) {
-      if (!c.touching) continue;
-      if (out.size() > runStart && out.back().key == c.pairKey()) continue;
-      out.push_back({c.pairKey(), &c});
+    const detail::ContactRuns::Run& r = list.run[run];
+    for (size_t i = 0; i < r.size(); ++i) {
+      if (!r.touching[i]) continue;
+      if (out.size() > runStart && out.back().key == r.pairKeys[i]) continue;
+      out.push_back({r.pairKeys[i], &r[i]});
     }
     ends[run] = out.size();
   }
@@ -466,22 +467,38 @@ void World::Impl::updateSleep(double dt) {
   const uint32_t n = static_cast<uint32_t>(bodies.size());
   parent.resize(n);
   std::iota(parent.begin(), parent.end(), 0u);
-  contacts.forEach([&](const ContactManifold& c) {
-    if (!c.touching) return;
-    const Body &A = bodies[c.bodyA], &B = bodies[c.bodyB];
-    if (!A.isDynamic() || !B.isDynamic() || !A.awake || !B.awake) return;
-    const uint32_t ra = findRoot(parent, c.bodyA), rb = findRoot(parent, c.bodyB);
-    if (ra != rb) parent[std::max(ra, rb)] = std::min(ra, rb);
+  // Each body's calm time, on the thread of its region (the body's cache lines are that
+  // thread's); the islands read the packed copies.
+  calmTimes.resize(awakeBodies.size()), calmDynamic.resize(awakeBodies.size());
+  inBothRegions([&](int region) {
+    for (int k : bodiesOf(region)) {
+      Body& b = bodies[awakeBodies[k]];
+      if (b.allowSleep && b.isDynamic() && calm(b, dt))
+        b.sleepTime += dt;
+      else
+        b.restartCalm();
+      calmTimes[k] = b.sleepTime, calmDynamic[k] = b.isDynamic();
+    }
   });
+  // Awake (moving) and dynamic: a solver body whose packed flag says so.
+  auto awakeDynamic = [&](uint32_t slot) {
+    const int s = solverIndexOf[slot];
+    return s != 0 && calmDynamic[static_cast<size_t>(s - 1)];
+  };
+  for (const detail::ContactRuns::Run& run : contacts.run) {
+    for (size_t i = 0; i < run.size(); ++i) {
+      if (!run.touching[i]) continue;
+      const uint32_t a = static_cast<uint32_t>(run.pairKeys[i] >> 32);
+      const uint32_t b = static_cast<uint32_t>(run.pairKeys[i] & 0xffffffffu);
+      if (!awakeDynamic(a) || !awakeDynamic(b)) continue;
+      const uint32_t ra = findRoot(parent, a), rb = findRoot(parent, b);
+      if (ra != rb) parent[std::max(ra, rb)] = std::min(ra, rb);
+    }
+  }
   islandSleepTime.assign(n, 1e300);
-  for (uint32_t i : awakeBodies) {
-    Body& b = bodies[i];
-    if (b.allowSleep && b.isDynamic() && calm(b, dt))
-      b.sleepTime += dt;
-    else
-      b.restartCalm();
-    const uint32_t r = findRoot(parent, i);
-    islandSleepTime[r] = std::min(islandSleepTime[r], b.sleepTime);
+  for (size_t k = 0; k < awakeBodies.size(); ++k) {
+    const uint32_t r = findRoot(parent, awakeBodies[k]);
+    islandSleepTime[r] = std::min(islandSleepTime[r], calmTimes[k]);
   }
   int islands = 0, sleeping = 0;
   for (uint32_t r = 0; r < n; ++r) {  // the islands' roots, in slot order (awakeBodies is not)

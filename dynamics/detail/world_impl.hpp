@@ -259,13 +259,16 @@ struct ContactRuns {
   // Each run on cache lines of its own: the two regions' threads append to theirs at once,
   // and with the three vectors on one line the narrowphase took twice as long on two threads.
   struct alignas(64) Run : std::vector<ContactManifold> {
-    // Each manifold's pair key, in the run's order: walks along last step's runs (the
-    // narrowphase's lookup, the kept contacts) read these few cache lines instead of every
-    // manifold, which the other region's thread made. Set again whenever the run changes.
+    // Each manifold's pair key and whether it touches, in the run's order: the walks along
+    // every run (the narrowphase's lookup of last step's manifolds, the kept contacts, events,
+    // islands) read these few cache lines instead of every manifold, which the other region's
+    // thread made. Set again whenever the run changes.
     std::vector<uint64_t> pairKeys;
+    std::vector<uint8_t> touching;
     void indexKeys() {
-      pairKeys.resize(size());
-      for (size_t i = 0; i < size(); ++i) pairKeys[i] = (*this)[i].pairKey();
+      pairKeys.resize(size()), touching.resize(size());
+      for (size_t i = 0; i < size(); ++i)
+        pairKeys[i] = (*this)[i].pairKey(), touching[i] = (*this)[i].touching;
     }
   };
   Run run[3];
@@ -338,6 +341,8 @@ struct World::Impl {
   std::vector<detail::SolverBody> solverBodies;
   std::vector<uint32_t> awakeBodies;  // the solver bodies' slots (solver index - 1)
   std::vector<int> solverIndexOf;     // per body slot: its solver index (0: the static body)
+  std::vector<double> calmTimes;      // per solver body (updateSleep)
+  std::vector<uint8_t> calmDynamic;   // per solver body: dynamic (updateSleep)
   std::vector<detail::SolverManifold> solverManifolds;
   // The solve's view of the regions (assignRegions, setUpSolverBodies): each half's solver bodies
   // and manifolds are worked on by its own thread; the manifolds across the cut come after,
