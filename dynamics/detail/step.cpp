@@ -139,19 +139,21 @@ bool World::Impl::collide(double dt) {
   // Proxies: every live body; awake non-static ones are active.
   const uint32_t n = static_cast<uint32_t>(bodies.size());
   proxyBoxes.clear(), proxyActive.clear(), proxyBody.clear();
+  motion.resize(n);
   for (uint32_t i = 0; i < n; ++i) {
-    Body& b = bodies[i];
+    const Body& b = bodies[i];
     if (!b.alive) continue;
     const bool active = b.awake && b.type != BodyType::Static;
-    b.turnTravel = active ? turnTravel(b, dt) : 0.0;
-    b.acceleration = active ? accelerationOf(b, def.gravity, dt) : Vec3::Zero();
+    detail::BodyMotion& m = motion[i];
+    m.turnTravel = active ? turnTravel(b, dt) : 0.0;
+    m.acceleration = active ? accelerationOf(b, def.gravity, dt) : Vec3::Zero();
     if (active) {
       // b.aabb is current: every pose change (createBody, setPose, the solver's write-back)
       // refreshes it. Grow it by the speculative distance and by the motion of this step.
-      Aabb box = b.aabb.inflated(def.speculativeDistance + b.turnTravel);
+      Aabb box = b.aabb.inflated(def.speculativeDistance + m.turnTravel);
       // Its travel lies between the speed it has and the speed it gains (v dt + a dt^2 bounds a
       // substepped Euler step's).
-      const Vec3 now = b.v * dt, gained = (b.v + b.acceleration * dt) * dt;
+      const Vec3 now = b.v * dt, gained = (b.v + m.acceleration * dt) * dt;
       box.min += now.cwiseMin(gained).cwiseMin(Vec3::Zero());
       box.max += now.cwiseMax(gained).cwiseMax(Vec3::Zero());
       proxyBoxes.push_back(box);
@@ -178,8 +180,8 @@ bool World::Impl::collide(double dt) {
     regionOnePairs.clear();
     size_t kept = 0;
     for (const auto& pair : pairs) {
-      const uint8_t a = bodies[proxyBody[pair.first]].region;
-      const uint8_t region = a != detail::kNoRegion ? a : bodies[proxyBody[pair.second]].region;
+      const uint8_t a = bodyRegion[proxyBody[pair.first]];
+      const uint8_t region = a != detail::kNoRegion ? a : bodyRegion[proxyBody[pair.second]];
       if (region == 1)
         regionOnePairs.push_back(pair);
       else
@@ -227,10 +229,11 @@ bool World::Impl::collide(double dt) {
 // (the order of the step as it was before regions).
 void World::Impl::assignRegions() {
   regionSlots.clear();
+  bodyRegion.resize(bodies.size());
   for (uint32_t i = 0; i < bodies.size(); ++i) {
-    Body& b = bodies[i];
+    const Body& b = bodies[i];
     const bool moving = b.alive && b.awake && b.type != BodyType::Static;
-    b.region = moving ? 0 : detail::kNoRegion;
+    bodyRegion[i] = moving ? 0 : detail::kNoRegion;
     if (moving) regionSlots.push_back(i);
   }
   const size_t n = regionSlots.size();
@@ -249,13 +252,13 @@ void World::Impl::assignRegions() {
   std::nth_element(regionScratch.begin(), regionScratch.begin() + static_cast<long>(n / 2),
                    regionScratch.end());
   const double median = regionScratch[n / 2];
-  for (uint32_t slot : regionSlots) bodies[slot].region = bodies[slot].com[axis] < median ? 0 : 1;
+  for (uint32_t slot : regionSlots) bodyRegion[slot] = bodies[slot].com[axis] < median ? 0 : 1;
   // Region 0's first (each in index order): the solve's bodies in this order keep each
   // region's cache lines together.
   regionOrder.clear();
   for (uint8_t region = 0; region < 2; ++region) {
     for (uint32_t slot : regionSlots)
-      if (bodies[slot].region == region) regionOrder.push_back(slot);
+      if (bodyRegion[slot] == region) regionOrder.push_back(slot);
     if (region == 0) regionSlotEnd = regionOrder.size();
   }
   regionSlots.swap(regionOrder);
@@ -301,8 +304,8 @@ void World::Impl::narrowphase(int region, double dt) {
     // applied forces add within the step (a box at rest above the floor falls g dt^2 towards it)
     // and their turns (the tip of a spinning plank closes at its spin times its length).
     const double approach = (B.v - A.v).norm() * dt +
-                            (B.acceleration - A.acceleration).norm() * dt * dt + A.turnTravel +
-                            B.turnTravel;
+                            (motion[ib].acceleration - motion[ia].acceleration).norm() * dt * dt +
+                            motion[ia].turnTravel + motion[ib].turnTravel;
     const double margin = def.speculativeDistance + std::min(approach, 1.0);
     // Not when the margin has grown by half the speculative distance or more: a point it left
     // out could then close this step (it was farther than the old margin, less the pair's
@@ -522,7 +525,12 @@ void World::Impl::updateSleep(double dt) {
 }
 
 void World::Impl::finishStep() {
+  // Only the bodies with loads: a store, even of zeros, takes the body's cache line from the
+  // thread that solves it.
+  const auto loaded = [](const Vec3& x) { return (x.array() != 0.0).any(); };
   for (Body& b : bodies) {
+    if (!loaded(b.force) && !loaded(b.torque) && !loaded(b.linearAccel) && !loaded(b.angularAccel))
+      continue;
     b.force.setZero(), b.torque.setZero();
     b.linearAccel.setZero(), b.angularAccel.setZero();
   }

@@ -56,9 +56,6 @@ struct Body {
   uint64_t userData = 0;
   std::string name;
   Aabb aabb;
-  uint8_t region = 0;       // this step's region when it moves, else kNoRegion (assignRegions)
-  double turnTravel = 0.0;  // m, how far its points can move by turning this step (collide)
-  Vec3 acceleration = Vec3::Zero();  // from gravity and the applied loads this step (collide)
 
   bool isDynamic() const { return type == BodyType::Dynamic; }
   // What accelerates it before any contact: gravity and the applied loads (tamed). Most bodies
@@ -76,6 +73,13 @@ struct Body {
     const Mat3 R = pose.q.toRotationMatrix();
     return R * invInertiaLocal * R.transpose();
   }
+};
+
+// How far a body may move this step before any contact (collide), per body slot: apart from
+// the Body, whose cache lines stay with the thread that solves it.
+struct BodyMotion {
+  Vec3 acceleration = Vec3::Zero();  // from gravity and the applied loads
+  double turnTravel = 0.0;           // m, how far its points can move by turning
 };
 
 // Warm-start memory of one contact point.
@@ -313,6 +317,8 @@ struct World::Impl {
   std::vector<Aabb> proxyBoxes;
   std::vector<uint8_t> proxyActive;
   std::vector<uint32_t> proxyBody;
+  std::vector<detail::BodyMotion> motion;  // per body slot (collide)
+  std::vector<uint8_t> bodyRegion;  // per body slot: its region, kNoRegion if it does not move
   std::vector<std::pair<uint32_t, uint32_t>> pairs;
   std::vector<Manifold> scratch;             // for queries
   detail::NarrowphaseOut narrowphaseOut[2];  // per region
