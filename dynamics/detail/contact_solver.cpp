@@ -1028,12 +1028,13 @@ void World::Impl::prepareContacts() {
   static thread_local std::vector<std::pair<uint8_t, int>> byRegion[3];  // run, index
   for (auto& list : byRegion) list.clear();
   for (uint8_t run = 0; run < 2; ++run) {
-    const std::vector<ContactManifold>& list = contacts.run[run];
-    for (size_t ci = 0; ci < list.size(); ++ci) {
-      const ContactManifold& c = list[ci];
-      const int a = solverIndexOf[c.bodyA], b = solverIndexOf[c.bodyB];
+    const std::vector<uint64_t>& keys = contacts.run[run].pairKeys;  // (not the manifolds)
+    for (size_t ci = 0; ci < keys.size(); ++ci) {
+      const uint32_t bodyA = static_cast<uint32_t>(keys[ci] >> 32);
+      const uint32_t bodyB = static_cast<uint32_t>(keys[ci] & 0xffffffffu);
+      const int a = solverIndexOf[bodyA], b = solverIndexOf[bodyB];
       if (a == 0 && b == 0) continue;
-      if (!bodies[c.bodyA].isDynamic() && !bodies[c.bodyB].isDynamic()) continue;
+      if (!bodies[bodyA].isDynamic() && !bodies[bodyB].isDynamic()) continue;
       const uint8_t ra = solverRegion[a], rb = solverRegion[b];
       const uint8_t region = ra == kNoRegion ? rb : rb == kNoRegion || ra == rb ? ra : kAcross;
       byRegion[region].emplace_back(run, static_cast<int>(ci));
