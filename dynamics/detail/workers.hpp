@@ -7,6 +7,7 @@
 #include <atomic>
 #include <exception>
 #include <functional>
+#include <memory>
 #include <mutex>
 #include <thread>
 #include <vector>
@@ -21,9 +22,11 @@ class Workers {
   Workers& operator=(const Workers&) = delete;
 
   int threads() const { return static_cast<int>(helpers_.size()) + 1; }
-  // Runs task(t) on thread t for every t in [0, threads()), the calling thread being 0, and
-  // returns when all have run: a share given to the same thread step after step finds its data
-  // in that thread's cache. An exception from a task is rethrown here (the first one).
+  // Runs task(t) for every t in [0, threads()) and returns when all have run: on thread t (the
+  // calling thread being 0), so that a share given to the same thread step after step finds its
+  // data in that thread's cache, unless thread t has not taken it by the time the calling
+  // thread's own is done: then the calling thread runs it. An exception from a task is rethrown
+  // here (the first one).
   void runEach(const std::function<void(int)>& task);
 
  private:
@@ -38,6 +41,7 @@ class Workers {
   std::atomic<unsigned> posted_{0};  // bumped for every job
   std::atomic<int> busy_{0};         // helpers still inside the current job
   std::atomic<bool> stopping_{false};
+  std::unique_ptr<std::atomic<bool>[]> claimed_;  // per thread: this job's task t is taken
   const std::function<void(int)>* task_ = nullptr;
   std::mutex errorMutex_;
   std::exception_ptr error_;
