@@ -1014,9 +1014,9 @@ void World::Impl::setUpSolverBodies() {
 }
 
 // Region r's awake bodies (solver index - 1).
-std::ranges::iota_view<int, int> World::Impl::bodiesOf(int region) const {
+detail::IndexRange World::Impl::bodiesOf(int region) const {
   const int n = static_cast<int>(awakeBodies.size());
-  return region == 0 ? std::views::iota(0, regionBodyEnd) : std::views::iota(regionBodyEnd, n);
+  return region == 0 ? detail::IndexRange{0, regionBodyEnd} : detail::IndexRange{regionBodyEnd, n};
 }
 
 void World::Impl::prepareContacts() {
@@ -1352,7 +1352,7 @@ void World::Impl::computeLevels() {
   // ctx.touching), then through the rest: a speculative contact across a gap (a block two
   // layers up, 15 mm away; a 3 mm poker chip two up, within linearSlop) must not put a body
   // level with the one it rests on, or the shock pass would not order them.
-  // (ManifoldLink::bearing.)
+  // (A link bears a load when warm or within positionSlop: ManifoldLink::bearing.)
   auto spread = [&](bool all) {
     for (size_t q = 0; q < queue.size(); ++q) {
       const int body = queue[q];

@@ -7,7 +7,6 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
-#include <ranges>
 #include <string>
 #include <tuple>
 #include <vector>
@@ -92,6 +91,20 @@ struct PointState {
 constexpr uint8_t kAcross = 2;         // a manifold between the two regions
 constexpr uint8_t kNoRegion = 3;       // a body that does not move (static, asleep), the world
 constexpr size_t kRegionBodies = 256;  // fewer awake bodies stay one region
+
+// The indices [first, last), for a range-for. (Not std::views::iota: clang 14 cannot compile
+// libstdc++ 12's.)
+struct IndexRange {
+  struct Iterator {
+    int i;
+    int operator*() const { return i; }
+    Iterator& operator++() { return ++i, *this; }
+    bool operator!=(const Iterator& o) const { return i != o.i; }
+  };
+  int first = 0, last = 0;
+  Iterator begin() const { return {first}; }
+  Iterator end() const { return {last}; }
+};
 
 // The key of a pair of body slots, a < b.
 inline uint64_t makePairKey(uint32_t a, uint32_t b) {
@@ -392,7 +405,7 @@ struct World::Impl {
   void contactEvents();
   void solve(double dt);
   void setUpSolverBodies();
-  std::ranges::iota_view<int, int> bodiesOf(int region) const;  // (setUpSolverBodies)
+  detail::IndexRange bodiesOf(int region) const;  // (setUpSolverBodies)
   detail::ContactManifold& sourceOf(const detail::SolverManifold& m) {
     return contacts.run[m.sourceRun][static_cast<size_t>(m.source)];
   }
