@@ -1030,8 +1030,7 @@ void World::Impl::prepareContacts() {
   for (uint8_t run = 0; run < 2; ++run) {
     const std::vector<uint64_t>& keys = contacts.run[run].pairKeys;  // (not the manifolds)
     for (size_t ci = 0; ci < keys.size(); ++ci) {
-      const uint32_t bodyA = static_cast<uint32_t>(keys[ci] >> 32);
-      const uint32_t bodyB = static_cast<uint32_t>(keys[ci] & 0xffffffffu);
+      const uint32_t bodyA = detail::firstOfPair(keys[ci]), bodyB = detail::secondOfPair(keys[ci]);
       const int a = solverIndexOf[bodyA], b = solverIndexOf[bodyB];
       if (a == 0 && b == 0) continue;
       if (!bodies[bodyA].isDynamic() && !bodies[bodyB].isDynamic()) continue;

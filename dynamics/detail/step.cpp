@@ -130,7 +130,7 @@ void mergeRuns(std::vector<T>& v, const size_t (&ends)[3], const Less& less) {
 
 bool carriesOver(const std::vector<Body>& bodies, uint64_t pairKey) {
   // Contacts among sleeping and static bodies are not recomputed; keep them as they were.
-  const Body &a = bodies[pairKey >> 32], &b = bodies[pairKey & 0xffffffffu];
+  const Body &a = bodies[detail::firstOfPair(pairKey)], &b = bodies[detail::secondOfPair(pairKey)];
   return a.alive && b.alive && !a.awake && !b.awake;
 }
 }  // namespace
@@ -491,8 +491,8 @@ void World::Impl::updateSleep(double dt) {
   for (const detail::ContactRuns::Run& run : contacts.run) {
     for (size_t i = 0; i < run.size(); ++i) {
       if (!run.touching[i]) continue;
-      const uint32_t a = static_cast<uint32_t>(run.pairKeys[i] >> 32);
-      const uint32_t b = static_cast<uint32_t>(run.pairKeys[i] & 0xffffffffu);
+      const uint32_t a = detail::firstOfPair(run.pairKeys[i]);
+      const uint32_t b = detail::secondOfPair(run.pairKeys[i]);
       if (!awakeDynamic(a) || !awakeDynamic(b)) continue;
       const uint32_t ra = findRoot(parent, a), rb = findRoot(parent, b);
       if (ra != rb) parent[std::max(ra, rb)] = std::min(ra, rb);

@@ -34,6 +34,7 @@ class Workers {
   void finish();
   void helperLoop(int index);
   void guarded(int arg);
+  void runUnlessTaken(int t);  // task t, by whichever thread claims it first
 
   std::vector<std::thread> helpers_;
   // A step hands out a dozen jobs within a few milliseconds, so a helper spins a while after

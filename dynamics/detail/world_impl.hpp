@@ -110,6 +110,13 @@ struct IndexRange {
 inline uint64_t makePairKey(uint32_t a, uint32_t b) {
   return (uint64_t(a) << 32) | b;
 }
+// The two body slots of a pair key.
+inline uint32_t firstOfPair(uint64_t key) {
+  return static_cast<uint32_t>(key >> 32);
+}
+inline uint32_t secondOfPair(uint64_t key) {
+  return static_cast<uint32_t>(key);
+}
 
 // One manifold between two bodies (one child pair), as the narrowphase made it this step,
 // plus the impulses it carries from step to step.
