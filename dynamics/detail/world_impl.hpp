@@ -361,7 +361,8 @@ struct World::Impl {
   } workers;
 
   detail::ContactRuns contacts;
-  detail::ContactRuns previous;  // last step's
+  detail::ContactRuns previous;  // last step's (not kept up to date while atRest)
+  bool atRest = false;           // this step found nothing moving, and nor did the last (collide)
   std::vector<detail::SensorPair> sensorPairs, previousSensorPairs;
 
   std::vector<detail::SolverBody> solverBodies;

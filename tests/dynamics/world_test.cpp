@@ -1,6 +1,7 @@
 // World physics tests: every test compares against an analytic answer or a conservation law.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -733,6 +734,62 @@ TEST(Sleep, AChainOfSleepingIslandsWakesWithItsContacts) {
   EXPECT_TRUE(lowerWoke);
   EXPECT_GT(lowest[0], 0.1 - 1e-4);
   EXPECT_GT(lowest[1], 0.3 - 1e-4);
+}
+
+// A world at rest (everything asleep, and so last step too) skips finding pairs and keeps its
+// contacts as they are (World::Impl::collide). Nothing after may tell: a stack woken after 300
+// steps at rest moves exactly as one woken one step after it fell asleep, with the same
+// contact events, and while at rest it reports no event and keeps its manifolds.
+TEST(Sleep, AWorldAtRestWakesAsIfItHadJustFallenAsleep) {
+  struct Run {
+    std::vector<double> state;        // every box's position and velocity after waking
+    std::vector<std::string> events;  // "step begin|end a b", after waking
+  };
+  auto run = [](int restSteps) {
+    World w;
+    const BodyId ground = addGround(w);
+    std::vector<BodyId> boxes;
+    for (int i = 0; i < 4; ++i)
+      boxes.push_back(addBox(w, Vec3(0.02 * i, 0.05 + 0.1 * i, 0), Vec3::Constant(0.05)));
+    int steps = 0;
+    do {
+      w.step(1.0 / 60.0);
+    } while (w.stats().awakeBodies > 0 && ++steps < 600);
+    EXPECT_EQ(w.stats().awakeBodies, 0);
+    for (int i = 0; i < restSteps; ++i) {
+      w.step(1.0 / 60.0);
+      EXPECT_TRUE(w.contactBeginEvents().empty() && w.contactEndEvents().empty());
+    }
+    EXPECT_EQ(w.contactManifolds(ground, boxes[0]).size(), 1u);
+    EXPECT_EQ(w.contactManifolds(boxes[0], boxes[1]).size(), 1u);
+    // Knock the top box off sideways: it leaves the stack and lands on the ground.
+    w.addForce(boxes[3], Vec3(1.5, 0.5, 0.3), ForceMode::VelocityChange);
+    Run r;
+    for (int i = 0; i < 90; ++i) {
+      w.step(1.0 / 60.0);
+      for (const ContactEvent& e : w.contactBeginEvents())
+        r.events.push_back(std::to_string(i) + " begin " + std::to_string(e.a.index) + " " +
+                           std::to_string(e.b.index));
+      for (const ContactEvent& e : w.contactEndEvents())
+        r.events.push_back(std::to_string(i) + " end " + std::to_string(e.a.index) + " " +
+                           std::to_string(e.b.index));
+    }
+    for (BodyId b : boxes)
+      for (const Vec3& x : {w.pose(b).p, w.linearVelocity(b), w.angularVelocity(b)})
+        r.state.insert(r.state.end(), x.data(), x.data() + 3);
+    return r;
+  };
+  const Run soon = run(1), late = run(300);
+  EXPECT_EQ(soon.state, late.state);  // bit for bit
+  EXPECT_EQ(soon.events, late.events);
+  // The top box (index 4) left the one below it and met the ground (index 0).
+  auto happened = [&](const std::string& what) {
+    return std::any_of(soon.events.begin(), soon.events.end(), [&](const std::string& e) {
+      return e.size() > what.size() && e.compare(e.size() - what.size(), what.size(), what) == 0;
+    });
+  };
+  EXPECT_TRUE(happened(" end 3 4"));
+  EXPECT_TRUE(happened(" begin 0 4"));
 }
 
 TEST(Sleep, ABoxStartingToSlideSlowlyIsNotFrozen) {
