@@ -2,7 +2,8 @@
 // the next axis (a sweep over one axis alone meets every proxy in the same slab: in a pile,
 // a whole row of every layer). Chosen over a dynamic tree because grip's scenes rebuild every
 // step anyway and a sweep over a nearly sorted array is cache friendly and trivially
-// deterministic (see docs/performance.md).
+// deterministic (see docs/performance.md). With a few active proxies among many (most asleep),
+// each active one is tested against every proxy instead.
 #pragma once
 
 #include <cstdint>
@@ -29,7 +30,8 @@ class SweepBroadphase {
     uint32_t strip;  // the strip the proxy starts in
     uint8_t active;
   };
-  std::vector<uint32_t> order_;  // kept between calls: nearly sorted next time
+  std::vector<uint32_t> order_;       // kept between calls: nearly sorted next time
+  std::vector<uint32_t> activeList_;  // (when there are few)
   std::vector<double> keys_, widths_;
   std::vector<uint8_t> wide_;  // tested against every proxy, not in strips
   std::vector<uint32_t> stripLo_, stripHi_, stripStart_, fill_, wideList_;

@@ -2,6 +2,7 @@
 // member, once, sorted, and nothing else.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <random>
@@ -121,6 +122,37 @@ TEST(Broadphase, FewProxiesAndManyGiveTheSamePairs) {
     const std::vector<uint8_t> active(allActive.begin(), allActive.begin() + static_cast<long>(n));
     broadphase.findPairs(boxes, active, pairs);
     EXPECT_EQ(pairs, bruteForce(boxes, active)) << n << " proxies";
+  }
+}
+
+TEST(Broadphase, FewActiveProxiesAmongManyGiveTheSamePairs) {
+  // A settled pile with a few awake boxes among the sleeping ones: up to 16 active proxies each
+  // is tested against every proxy, above that the sweep runs. Every active count around the
+  // switch, one call after another on the same broadphase (the sweep keeps its order between
+  // calls), gives the definition's pairs; two active boxes that overlap pair once.
+  constexpr double inf = std::numeric_limits<double>::infinity();
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> jitter(-0.02, 0.02);
+  std::vector<Aabb> boxes;
+  boxes.push_back({Vec3(-inf, -inf, -inf), Vec3(inf, 0.0, inf)});
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  boxes.push_back({Vec3(nan, 0, 0), Vec3(1, 1, 1)});
+  for (int x = 0; x < 10; ++x)
+    for (int y = 0; y < 5; ++y)
+      for (int z = 0; z < 10; ++z)
+        boxes.push_back(boxAt(Vec3(0.2 * x + jitter(rng), 0.1 + 0.2 * y, 0.2 * z + jitter(rng)),
+                              Vec3::Constant(0.105)));
+  std::vector<uint32_t> order(boxes.size());
+  for (uint32_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::shuffle(order.begin(), order.end(), rng);
+  SweepBroadphase broadphase;
+  Pairs pairs;
+  for (size_t awake : {0, 1, 2, 15, 16, 17, 40, 16, 3}) {
+    std::vector<uint8_t> active(boxes.size(), 0);
+    for (size_t k = 0; k < awake; ++k) active[order[k]] = 1;
+    broadphase.findPairs(boxes, active, pairs);
+    EXPECT_EQ(pairs, bruteForce(boxes, active)) << awake << " active";
+    EXPECT_EQ(pairs.empty(), awake == 0) << awake << " active";
   }
 }
 
