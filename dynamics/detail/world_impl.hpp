@@ -339,6 +339,7 @@ struct World::Impl {
   std::vector<uint32_t> proxyBody;
   std::vector<detail::BodyMotion> motion;  // per body slot (collide)
   std::vector<uint8_t> bodyRegion;  // per body slot: its region, kNoRegion if it does not move
+  std::vector<uint8_t> stillBody;   // per body slot: alive and not moving this step (collide)
   std::vector<std::pair<uint32_t, uint32_t>> pairs;
   std::vector<Manifold> scratch;             // for queries
   detail::NarrowphaseOut narrowphaseOut[2];  // per region
@@ -363,6 +364,7 @@ struct World::Impl {
   detail::ContactRuns contacts;
   detail::ContactRuns previous;  // last step's (not kept up to date while atRest)
   bool atRest = false;           // this step found nothing moving, and nor did the last (collide)
+  bool keptTakenOver = false;    // this step's kept run is last step's, moved (keepContacts)
   std::vector<detail::SensorPair> sensorPairs, previousSensorPairs;
 
   std::vector<detail::SolverBody> solverBodies;
@@ -410,6 +412,7 @@ struct World::Impl {
   const detail::ContactManifold* findPrevious(PreviousCursors& from, uint32_t ia, uint32_t ib,
                                               uint32_t childA, uint32_t childB) const;
   void narrowphase(int region, double dt);
+  void keepContacts();
   void contactEvents();
   void solve(double dt);
   void setUpSolverBodies();

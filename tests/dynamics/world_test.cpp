@@ -842,6 +842,59 @@ TEST(Events, ContactBeginsOnLandingAndEndsOnLift) {
   EXPECT_EQ(ends, 1);
 }
 
+// While a pusher moves and everything else sleeps, the kept contacts are last step's as they
+// were and are taken over whole (World::Impl::keepContacts); islands that fall asleep join
+// them, islands the pusher wakes leave them. Every step the events add up to exactly the pairs
+// whose manifolds touch, and a sleeping stack keeps its manifolds.
+TEST(Events, AddUpWhileSleepingStacksAreKeptAndWoken) {
+  World w;
+  std::vector<BodyId> all{addGround(w)};
+  for (int stack = 0; stack < 3; ++stack)
+    for (int level = 0; level < 3; ++level)
+      all.push_back(addBox(w, Vec3(1.0 * stack, 0.05 + 0.1 * level, 0), Vec3::Constant(0.05)));
+  BodyDef k;
+  k.type = BodyType::Kinematic;
+  k.shape = Shape::box(Vec3::Constant(0.05));
+  k.position = Vec3(-1.5, 0.15, 0);
+  k.linearVelocity = Vec3(0.5, 0, 0);
+  all.push_back(w.createBody(k));
+  auto touches = [&](BodyId a, BodyId b) {
+    for (const Manifold& m : w.contactManifolds(a, b))
+      for (int i = 0; i < m.pointCount; ++i)
+        if (m.points[i].separation < 1e-3) return true;
+    return false;
+  };
+  auto key = [](const ContactEvent& e) {
+    return std::make_pair(std::min(e.a.index, e.b.index), std::max(e.a.index, e.b.index));
+  };
+  std::set<std::pair<uint32_t, uint32_t>> touching;
+  int quietSteps = 0;
+  bool asleepAt100 = false, wokeAfter[2] = {false, false};
+  bool lastStackKeptItsManifolds = false;
+  for (int step = 0; step < 420; ++step) {  // the pusher crosses the first two stacks
+    w.step(1.0 / 60.0);
+    for (const ContactEvent& e : w.contactEndEvents()) ASSERT_EQ(touching.erase(key(e)), 1u);
+    for (const ContactEvent& e : w.contactBeginEvents())
+      ASSERT_TRUE(touching.insert(key(e)).second);
+    std::set<std::pair<uint32_t, uint32_t>> expected;
+    for (size_t i = 0; i < all.size(); ++i)
+      for (size_t j = i + 1; j < all.size(); ++j)
+        if (touches(all[i], all[j]))
+          expected.emplace(std::min(all[i].index, all[j].index),
+                           std::max(all[i].index, all[j].index));
+    ASSERT_EQ(touching, expected) << "step " << step;
+    quietSteps += w.stats().awakeBodies == 1;  // only the pusher
+    if (step == 100) asleepAt100 = !w.isAwake(all[2]) && !w.isAwake(all[5]);
+    if (step > 100) wokeAfter[0] |= w.isAwake(all[2]), wokeAfter[1] |= w.isAwake(all[5]);
+    if (step > 100 && !w.isAwake(all[7]) && !w.contactManifolds(all[7], all[0]).empty())
+      lastStackKeptItsManifolds = true;
+  }
+  EXPECT_GT(quietSteps, 30);  // only the pusher moved, the stacks kept their contacts
+  EXPECT_TRUE(asleepAt100 && wokeAfter[0] && wokeAfter[1]);  // the first two, by the pusher
+  EXPECT_TRUE(lastStackKeptItsManifolds);
+  EXPECT_GT(touching.size(), 4u);
+}
+
 // A world of 256 moving bodies or more keeps its contacts in one list per region (each made
 // and solved on its region's thread) and one of the contacts kept between resting bodies:
 // the events still come in key order, every pair the events say touches has a touching
