@@ -505,6 +505,8 @@ bool World::Impl::calm(const Body& b, double dt) const {
 }
 
 void World::Impl::updateSleep(double dt) {
+  stats.islands = stats.sleepingIslands = 0;
+  if (awakeBodies.empty()) return;  // (a world at rest)
   // Islands: awake dynamic bodies joined by touching contacts (static bodies do not join).
   static thread_local std::vector<uint32_t> parent;
   static thread_local std::vector<double> islandSleepTime;
@@ -529,7 +531,8 @@ void World::Impl::updateSleep(double dt) {
     const int s = solverIndexOf[slot];
     return s != 0 && calmDynamic[static_cast<size_t>(s - 1)];
   };
-  for (const detail::ContactRuns::Run& run : contacts.run) {
+  for (int r = 0; r < 2; ++r) {  // (the kept run joins only bodies that do not move)
+    const detail::ContactRuns::Run& run = contacts.run[r];
     for (size_t i = 0; i < run.size(); ++i) {
       if (!run.touching[i]) continue;
       const uint32_t a = detail::firstOfPair(run.pairKeys[i]);
@@ -567,9 +570,11 @@ void World::Impl::updateSleep(double dt) {
 
 void World::Impl::finishStep() {
   // Only the bodies with loads: a store, even of zeros, takes the body's cache line from the
-  // thread that solves it.
+  // thread that solves it. Every load wakes its body (addForce, addTorque, addForcesAtPositions)
+  // so they are all on bodies that moved this step.
   const auto loaded = [](const Vec3& x) { return (x.array() != 0.0).any(); };
-  for (Body& b : bodies) {
+  for (uint32_t slot : awakeBodies) {
+    Body& b = bodies[slot];
     if (!loaded(b.force) && !loaded(b.torque) && !loaded(b.linearAccel) && !loaded(b.angularAccel))
       continue;
     b.force.setZero(), b.torque.setZero();
