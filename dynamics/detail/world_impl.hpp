@@ -362,9 +362,12 @@ struct World::Impl {
   } workers;
 
   detail::ContactRuns contacts;
-  detail::ContactRuns previous;  // last step's (not kept up to date while atRest)
-  bool atRest = false;           // this step found nothing moving, and nor did the last (collide)
-  bool keptTakenOver = false;    // this step's kept run is last step's, moved (keepContacts)
+  // Last step's, for the narrowphase's warm-start matching and the events; after collide only
+  // the events read it. Not moved up while atRest, and its kept run moved out when
+  // keptTakenOver.
+  detail::ContactRuns previous;
+  bool atRest = false;         // this step found nothing moving, and nor did the last (collide)
+  bool keptTakenOver = false;  // this step's kept run is last step's, moved (keepContacts)
   std::vector<detail::SensorPair> sensorPairs, previousSensorPairs;
 
   std::vector<detail::SolverBody> solverBodies;
