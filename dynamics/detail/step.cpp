@@ -134,13 +134,11 @@ bool World::Impl::collide(double dt) {
   // Proxies: every live body; awake non-static ones are active.
   const uint32_t n = static_cast<uint32_t>(bodies.size());
   proxyBoxes.clear(), proxyActive.clear(), proxyBody.clear();
-  motion.resize(n), stillBody.resize(n);
+  motion.resize(n);
   for (uint32_t i = 0; i < n; ++i) {
     const Body& b = bodies[i];
-    stillBody[i] = 0;
     if (!b.alive) continue;
     const bool active = b.awake && b.type != BodyType::Static;
-    stillBody[i] = !active;
     detail::BodyMotion& m = motion[i];
     m.turnTravel = active ? turnTravel(b, dt) : 0.0;
     m.acceleration = active ? accelerationOf(b, def.gravity, dt) : Vec3::Zero();
@@ -160,18 +158,17 @@ bool World::Impl::collide(double dt) {
     proxyActive.push_back(active);
     proxyBody.push_back(i);
   }
+  assignRegions();
   // A world at rest: nothing moves now, and last step's contacts were all kept ones (nothing
   // moved then either). No pair can be found, and every contact would be kept as it is: last
   // step's contacts stay this step's, with nothing to report (a settled 1000-box pile: 182 ->
   // 10 us a step).
-  atRest = contacts.run[0].empty() && contacts.run[1].empty() &&
-           std::find(proxyActive.begin(), proxyActive.end(), uint8_t{1}) == proxyActive.end();
+  atRest = regionSlots.empty() && contacts.run[0].empty() && contacts.run[1].empty();
   if (atRest) {
     pairs.clear();
     previousSensorPairs.swap(sensorPairs);
     sensorPairs.clear();
     stats.candidatePairs = 0, stats.reusedManifolds = 0;
-    assignRegions();
     regionPairEnd = 0;
     return false;
   }
@@ -186,7 +183,6 @@ bool World::Impl::collide(double dt) {
   // Narrowphase and warm-start matching, pure functions of the poses: each region's pairs (by
   // the pair's first moving body, in key order) on the thread that will solve them, into the
   // region's run of the contact list. Waking (a side effect) follows.
-  assignRegions();
   regionPairEnd = pairs.size();
   if (regionCount == 2) {  // region 1's pairs to the end, in order (a stable partition)
     regionOnePairs.clear();
@@ -264,11 +260,12 @@ void World::Impl::keepContacts() {
 // (the order of the step as it was before regions).
 void World::Impl::assignRegions() {
   regionSlots.clear();
-  bodyRegion.resize(bodies.size());
+  bodyRegion.resize(bodies.size()), stillBody.resize(bodies.size());
   for (uint32_t i = 0; i < bodies.size(); ++i) {
     const Body& b = bodies[i];
     const bool moving = b.alive && b.awake && b.type != BodyType::Static;
     bodyRegion[i] = moving ? 0 : detail::kNoRegion;
+    stillBody[i] = b.alive && !moving;
     if (moving) regionSlots.push_back(i);
   }
   const size_t n = regionSlots.size();

@@ -339,7 +339,7 @@ struct World::Impl {
   std::vector<uint32_t> proxyBody;
   std::vector<detail::BodyMotion> motion;  // per body slot (collide)
   std::vector<uint8_t> bodyRegion;  // per body slot: its region, kNoRegion if it does not move
-  std::vector<uint8_t> stillBody;   // per body slot: alive and not moving this step (collide)
+  std::vector<uint8_t> stillBody;   // per body slot: alive and not moving (assignRegions)
   std::vector<std::pair<uint32_t, uint32_t>> pairs;
   std::vector<Manifold> scratch;             // for queries
   detail::NarrowphaseOut narrowphaseOut[2];  // per region
