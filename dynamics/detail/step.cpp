@@ -303,6 +303,9 @@ void World::Impl::narrowphase(int region, double dt) {
   const size_t begin = region == 0 ? 0 : regionPairEnd;
   const size_t end = region == 0 ? regionPairEnd : pairs.size();
   const double reuseHalfCos = std::cos(0.5 * def.contactReuseAngle);
+  // A convex pair makes one manifold at most: room for all, and to spare, so that the list does
+  // not grow a few times as a pile lands (each time into fresh pages).
+  if (end - begin > made.capacity()) made.reserve(2 * (end - begin));
   // Last step's manifolds, each run walked along with the pairs (all in key order) from this
   // region's first pair on.
   PreviousCursors cursor{};
