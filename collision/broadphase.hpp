@@ -7,6 +7,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <utility>
 #include <vector>
 
@@ -16,10 +17,15 @@ namespace grip {
 
 class SweepBroadphase {
  public:
+  // Runs part(0) and part(1), on two threads where the caller has them (in any order: the
+  // parts share nothing they write). Empty: one after the other.
+  using TwoParts = std::function<void(const std::function<void(int)>& part)>;
+
   // All overlapping pairs (i < j) among `boxes`, sorted. `active[i]` false: i only pairs with
-  // active proxies (static or sleeping proxies never pair with each other).
+  // active proxies (static or sleeping proxies never pair with each other). The sweep runs in
+  // two halves through `twoParts`; the pairs are the same either way.
   void findPairs(const std::vector<Aabb>& boxes, const std::vector<uint8_t>& active,
-                 std::vector<std::pair<uint32_t, uint32_t>>& pairs);
+                 std::vector<std::pair<uint32_t, uint32_t>>& pairs, const TwoParts& twoParts = {});
 
  private:
   // A proxy as the sweep reads it, in sweep order: the inner loop walks memory in a line.
@@ -37,6 +43,7 @@ class SweepBroadphase {
   std::vector<uint32_t> stripLo_, stripHi_, stripStart_, fill_, wideList_;
   std::vector<Swept> swept_;  // each strip's proxies in sweep order, strip after strip
   std::vector<std::pair<uint32_t, uint32_t>> scratch_;
+  std::vector<std::pair<uint32_t, uint32_t>> secondHalf_;  // the sweep's second half's pairs
 };
 
 }  // namespace grip

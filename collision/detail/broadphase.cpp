@@ -34,7 +34,8 @@ void countingSortBy(const std::vector<std::pair<uint32_t, uint32_t>>& in,
 }  // namespace
 
 void SweepBroadphase::findPairs(const std::vector<Aabb>& boxes, const std::vector<uint8_t>& active,
-                                std::vector<std::pair<uint32_t, uint32_t>>& pairs) {
+                                std::vector<std::pair<uint32_t, uint32_t>>& pairs,
+                                const TwoParts& twoParts) {
   pairs.clear();
   const uint32_t n = static_cast<uint32_t>(boxes.size());
   if (n <= kBruteForce) {  // a few proxies: every pair, in order, beats setting up the sweep
@@ -153,23 +154,41 @@ void SweepBroadphase::findPairs(const std::vector<Aabb>& boxes, const std::vecto
     for (uint32_t s = stripLo_[i]; s <= stripHi_[i]; ++s) swept_[fill_[s]++] = entry;
   }
 
-  for (uint32_t s = 0; s < stripCount; ++s) {
-    const uint32_t end = stripStart_[s + 1];
-    for (uint32_t i = stripStart_[s]; i < end; ++i) {
-      const Swept& a = swept_[i];
-      for (uint32_t j = i + 1; j < end; ++j) {
-        const Swept& b = swept_[j];
-        if (b.start > a.end) break;
-        // One branch for the whole test: one per part mispredicted often (perf, the pile:
-        // findPairs 6.5 -> 5.3 % of the step).
-        const bool apart = (a.min1 > b.max1) | (b.min1 > a.max1) | (a.min2 > b.max2) |
-                           (b.min2 > a.max2) | !(a.active | b.active) |
-                           (std::max(a.strip, b.strip) != s);  // or reported in another strip
-        if (apart) continue;
-        pairs.emplace_back(std::min(a.proxy, b.proxy), std::max(a.proxy, b.proxy));
+  // The strips in two halves of about as many entries, each into its own list, so that two
+  // threads can share the sweep (two thirds of the broadphase's time; on two threads the
+  // 1000-box pile's broadphase went from 0.63 to 0.53 Mcycles a step).
+  auto sweep = [&](uint32_t first, uint32_t last, std::vector<std::pair<uint32_t, uint32_t>>& out) {
+    for (uint32_t s = first; s < last; ++s) {
+      const uint32_t end = stripStart_[s + 1];
+      for (uint32_t i = stripStart_[s]; i < end; ++i) {
+        const Swept& a = swept_[i];
+        for (uint32_t j = i + 1; j < end; ++j) {
+          const Swept& b = swept_[j];
+          if (b.start > a.end) break;
+          // One branch for the whole test: one per part mispredicted often (perf, the pile:
+          // findPairs 6.5 -> 5.3 % of the step).
+          const bool apart = (a.min1 > b.max1) | (b.min1 > a.max1) | (a.min2 > b.max2) |
+                             (b.min2 > a.max2) | !(a.active | b.active) |
+                             (std::max(a.strip, b.strip) != s);  // or reported in another strip
+          if (apart) continue;
+          out.emplace_back(std::min(a.proxy, b.proxy), std::max(a.proxy, b.proxy));
+        }
       }
     }
-  }
+  };
+  const uint32_t half = static_cast<uint32_t>(
+      std::upper_bound(stripStart_.begin(), stripStart_.end(), stripStart_[stripCount] / 2) -
+      stripStart_.begin() - 1);
+  secondHalf_.clear();
+  auto part = [&](int k) {
+    if (k == 0) sweep(0, half, pairs);
+    if (k == 1) sweep(half, stripCount, secondHalf_);
+  };
+  if (twoParts)
+    twoParts(part);
+  else
+    part(0), part(1);
+  pairs.insert(pairs.end(), secondHalf_.begin(), secondHalf_.end());
   // The wide proxies against everything (each pair of two wide ones once).
   for (uint32_t g : wideList_) {
     for (uint32_t i = 0; i < n; ++i) {

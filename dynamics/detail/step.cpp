@@ -7,6 +7,7 @@
 //   updateSleep   islands; islands at rest long enough fall asleep
 //   finishStep    clear forces, advance time
 #include <algorithm>
+#include <functional>
 #include <limits>
 #include <numeric>
 #include <tuple>
@@ -172,7 +173,8 @@ bool World::Impl::collide(double dt) {
     regionPairEnd = 0;
     return false;
   }
-  broadphase.findPairs(proxyBoxes, proxyActive, pairs);
+  broadphase.findPairs(proxyBoxes, proxyActive, pairs,
+                       [this](const std::function<void(int)>& part) { inBothRegions(part); });
 
   std::swap(previous, contacts);
   for (std::vector<ContactManifold>& run : contacts.run) run.clear();

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <limits>
 #include <random>
+#include <thread>
 
 #include "collision/broadphase.hpp"
 
@@ -59,6 +60,42 @@ TEST(Broadphase, APileFindsExactlyTheOverlappingPairs) {
     broadphase.findPairs(boxes, active, pairs);
     EXPECT_EQ(pairs, bruteForce(boxes, active)) << "call " << call;
   }
+}
+
+TEST(Broadphase, TheSweepsTwoHalvesGiveTheSamePairsInEitherOrderOrAtOnce) {
+  // The sweep's halves may run on two threads (World::Impl::collide): run in reverse order and
+  // at once on two threads, they give the pairs of the definition, each half called once.
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(0.0, 3.0);
+  std::vector<Aabb> boxes;
+  std::vector<uint8_t> active;
+  for (int i = 0; i < 900; ++i) {
+    boxes.push_back(boxAt(Vec3(u(rng), 0.3 * u(rng), u(rng)), Vec3::Constant(0.1)));
+    active.push_back(i % 7 != 0);
+  }
+  boxes.push_back({Vec3(-1e15, -1e15, -1e15), Vec3(1e15, 0.0, 1e15)});  // the ground
+  active.push_back(0);
+  const Pairs expected = bruteForce(boxes, active);
+  EXPECT_GT(expected.size(), 2000u);
+  int calls[2] = {0, 0};
+  const SweepBroadphase::TwoParts reversed = [&](const std::function<void(int)>& part) {
+    part(1), ++calls[1];
+    part(0), ++calls[0];
+  };
+  const SweepBroadphase::TwoParts atOnce = [&](const std::function<void(int)>& part) {
+    std::thread helper([&] { part(1); });
+    part(0);
+    helper.join();
+    ++calls[0], ++calls[1];
+  };
+  SweepBroadphase broadphase;
+  Pairs pairs;
+  for (int call = 0; call < 4; ++call) {
+    broadphase.findPairs(boxes, active, pairs, call % 2 ? atOnce : reversed);
+    EXPECT_EQ(pairs, expected) << "call " << call;
+  }
+  EXPECT_EQ(calls[0], 4);
+  EXPECT_EQ(calls[1], 4);
 }
 
 TEST(Broadphase, WideInfiniteAndInvalidBoxesArePairedByDefinition) {
