@@ -44,6 +44,10 @@ class SweepBroadphase {
   std::vector<Swept> swept_;  // each strip's proxies in sweep order, strip after strip
   std::vector<std::pair<uint32_t, uint32_t>> scratch_;
   std::vector<std::pair<uint32_t, uint32_t>> secondHalf_;  // the sweep's second half's pairs
+  uint32_t splitStrip_ = 0;                                // the second half's first strip
+
+  void sweepStrips(uint32_t first, uint32_t last,
+                   std::vector<std::pair<uint32_t, uint32_t>>& out) const;
 };
 
 }  // namespace grip

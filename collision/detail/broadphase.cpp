@@ -157,32 +157,15 @@ void SweepBroadphase::findPairs(const std::vector<Aabb>& boxes, const std::vecto
   // The strips in two halves of about as many entries, each into its own list, so that two
   // threads can share the sweep (two thirds of the broadphase's time; on two threads the
   // 1000-box pile's broadphase went from 0.63 to 0.53 Mcycles a step).
-  auto sweep = [&](uint32_t first, uint32_t last, std::vector<std::pair<uint32_t, uint32_t>>& out) {
-    for (uint32_t s = first; s < last; ++s) {
-      const uint32_t end = stripStart_[s + 1];
-      for (uint32_t i = stripStart_[s]; i < end; ++i) {
-        const Swept& a = swept_[i];
-        for (uint32_t j = i + 1; j < end; ++j) {
-          const Swept& b = swept_[j];
-          if (b.start > a.end) break;
-          // One branch for the whole test: one per part mispredicted often (perf, the pile:
-          // findPairs 6.5 -> 5.3 % of the step).
-          const bool apart = (a.min1 > b.max1) | (b.min1 > a.max1) | (a.min2 > b.max2) |
-                             (b.min2 > a.max2) | !(a.active | b.active) |
-                             (std::max(a.strip, b.strip) != s);  // or reported in another strip
-          if (apart) continue;
-          out.emplace_back(std::min(a.proxy, b.proxy), std::max(a.proxy, b.proxy));
-        }
-      }
-    }
-  };
-  const uint32_t half = static_cast<uint32_t>(
+  splitStrip_ = static_cast<uint32_t>(
       std::upper_bound(stripStart_.begin(), stripStart_.end(), stripStart_[stripCount] / 2) -
       stripStart_.begin() - 1);
   secondHalf_.clear();
-  auto part = [&](int k) {
-    if (k == 0) sweep(0, half, pairs);
-    if (k == 1) sweep(half, stripCount, secondHalf_);
+  // (Capturing two pointers only: std::function keeps it without allocating.)
+  const std::function<void(int)> part = [this, &pairs](int k) {
+    if (k == 0) sweepStrips(0, splitStrip_, pairs);
+    if (k == 1)
+      sweepStrips(splitStrip_, static_cast<uint32_t>(stripStart_.size() - 1), secondHalf_);
   };
   if (twoParts)
     twoParts(part);
@@ -204,6 +187,28 @@ void SweepBroadphase::findPairs(const std::vector<Aabb>& boxes, const std::vecto
       pairs, scratch_, n, [](const auto& p) { return p.second; }, fill_);
   countingSortBy(
       scratch_, pairs, n, [](const auto& p) { return p.first; }, fill_);
+}
+
+// The pairs whose later start along axis 1 falls in strips [first, last), in sweep order.
+void SweepBroadphase::sweepStrips(uint32_t first, uint32_t last,
+                                  std::vector<std::pair<uint32_t, uint32_t>>& out) const {
+  for (uint32_t s = first; s < last; ++s) {
+    const uint32_t end = stripStart_[s + 1];
+    for (uint32_t i = stripStart_[s]; i < end; ++i) {
+      const Swept& a = swept_[i];
+      for (uint32_t j = i + 1; j < end; ++j) {
+        const Swept& b = swept_[j];
+        if (b.start > a.end) break;
+        // One branch for the whole test: one per part mispredicted often (perf, the pile:
+        // findPairs 6.5 -> 5.3 % of the step).
+        const bool apart = (a.min1 > b.max1) | (b.min1 > a.max1) | (a.min2 > b.max2) |
+                           (b.min2 > a.max2) | !(a.active | b.active) |
+                           (std::max(a.strip, b.strip) != s);  // or reported in another strip
+        if (apart) continue;
+        out.emplace_back(std::min(a.proxy, b.proxy), std::max(a.proxy, b.proxy));
+      }
+    }
+  }
 }
 
 }  // namespace grip
