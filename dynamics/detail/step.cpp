@@ -260,15 +260,15 @@ void World::Impl::keepContacts() {
 // on their own thread (collide, solve), and the manifolds across the cut after both. The order
 // is the same with one thread as with two, so the result is too. Fewer bodies stay one region
 // (the order of the step as it was before regions).
+// The moving bodies are the active proxies (collide builds them just before, one per live body
+// in slot order), so the bodies are not walked a second time.
 void World::Impl::assignRegions() {
   regionSlots.clear();
-  bodyRegion.resize(bodies.size()), stillBody.resize(bodies.size());
-  for (uint32_t i = 0; i < bodies.size(); ++i) {
-    const Body& b = bodies[i];
-    const bool moving = b.alive && b.awake && b.type != BodyType::Static;
-    bodyRegion[i] = moving ? 0 : detail::kNoRegion;
-    stillBody[i] = b.alive && !moving;
-    if (moving) regionSlots.push_back(i);
+  bodyRegion.assign(bodies.size(), detail::kNoRegion), stillBody.assign(bodies.size(), 0);
+  for (size_t k = 0; k < proxyBody.size(); ++k) {
+    const uint32_t i = proxyBody[k];
+    stillBody[i] = !proxyActive[k];
+    if (proxyActive[k]) bodyRegion[i] = 0, regionSlots.push_back(i);
   }
   const size_t n = regionSlots.size();
   regionCount = n < detail::kRegionBodies ? 1 : 2;
