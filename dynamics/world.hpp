@@ -41,6 +41,27 @@ struct MaterialDef {
   double density = 1000.0;  // kg/m^3, used when BodyDef.mass is 0
 };
 
+// Which bodies collide, by Box2D's rule. A body is of the kinds set in `category` and collides
+// with the kinds set in `mask`; two bodies collide when each one's mask holds the other's
+// category. A shared group decides before the bits: bodies of the same positive group always
+// collide, of the same negative group never (the parts of one tool, say). Sensors are filtered
+// the same way. The default collides with every default body.
+struct CollisionFilter {
+  uint64_t category = 1;
+  uint64_t mask = ~uint64_t{0};
+  int32_t group = 0;
+};
+
+inline bool shouldCollide(const CollisionFilter& a, const CollisionFilter& b) {
+  if (a.group != 0 && a.group == b.group) return a.group > 0;
+  return (a.mask & b.category) != 0 && (b.mask & a.category) != 0;
+}
+
+// Which bodies a query sees: those of a kind its mask holds. The default sees every body.
+struct QueryFilter {
+  uint64_t mask = ~uint64_t{0};
+};
+
 struct BodyDef {
   BodyType type = BodyType::Dynamic;
   ShapePtr shape;
@@ -54,6 +75,7 @@ struct BodyDef {
   double angularDamping = 0.0;  // 1/s
   double gravityScale = 1.0;
   bool isSensor = false;  // reports overlaps, never makes contact constraints
+  CollisionFilter filter;
   bool allowSleep = true;
   bool isAwake = true;
   uint64_t userData = 0;
@@ -193,16 +215,22 @@ class World {
   // Kinematic bodies: set the velocities that carry the body to `target` over dt.
   void moveKinematic(BodyId id, const Vec3& position, const Quat& orientation, double dt);
   void setMaterial(BodyId id, const MaterialDef& m);
+  // From the next step on; the body and what touches or overlaps it wake, so that their pairs
+  // are made or dropped under the new filter (a dropped touching pair reports its end).
+  void setCollisionFilter(BodyId id, const CollisionFilter& filter);
+  CollisionFilter collisionFilter(BodyId id) const;
   void wake(BodyId id);
 
-  // Queries (sensors are skipped by ray casts and overlaps).
-  std::optional<WorldRayHit> rayCast(const Vec3& origin, const Vec3& dir, double maxDistance) const;
+  // Queries (sensors are skipped by ray casts and overlaps, and so are bodies of a kind the
+  // filter's mask does not hold).
+  std::optional<WorldRayHit> rayCast(const Vec3& origin, const Vec3& dir, double maxDistance,
+                                     const QueryFilter& filter = {}) const;
   // Ray cast against one body only (child: one compound child, or -1 for all).
   std::optional<RayHit> rayCastBody(BodyId id, const Vec3& origin, const Vec3& dir,
                                     double maxDistance, int child = -1) const;
   // Bodies (and their children) within `margin` of `shape` placed at `t`, ordered by body.
-  void overlap(const Shape& shape, const Transform& t, double margin,
-               std::vector<OverlapHit>& hits) const;
+  void overlap(const Shape& shape, const Transform& t, double margin, std::vector<OverlapHit>& hits,
+               const QueryFilter& filter = {}) const;
   SurfacePoint closestPoint(BodyId id, const Vec3& worldPoint) const;
 
   // Events of the last step, in a deterministic order.

@@ -321,6 +321,7 @@ void World::Impl::narrowphase(int region, double dt) {
     const uint32_t ia = proxyBody[pairs[pair].first], ib = proxyBody[pairs[pair].second];
     const Body &A = bodies[ia], &B = bodies[ib];
     if (!A.isDynamic() && !B.isDynamic() && !A.sensor && !B.sensor) continue;
+    if (!shouldCollide(A.filter, B.filter)) continue;
     if (A.sensor || B.sensor) {
       if (A.sensor && B.sensor) continue;
       out.scratch.clear();

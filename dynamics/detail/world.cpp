@@ -112,6 +112,16 @@ void World::Impl::wakeBody(uint32_t slot) {
   }
 }
 
+// Pairs are made and dropped only where a body moves (a pair of still bodies keeps its
+// contacts): waking the body and every body whose box comes within the speculative distance
+// of its box (a still body's contacts start there) lets the next step find its pairs again.
+void World::Impl::wakeAround(uint32_t slot) {
+  wakeBody(slot);
+  const Aabb box = bodies[slot].aabb.inflated(def.speculativeDistance);
+  for (uint32_t i = 0; i < bodies.size(); ++i)
+    if (i != slot && bodies[i].alive && bodies[i].aabb.overlaps(box)) wakeBody(i);
+}
+
 BodyId World::createBody(const BodyDef& d) {
   if (!d.shape) throw Error("BodyDef.shape", "is missing");
   requireFinite(d.position, "BodyDef.position");
@@ -139,6 +149,7 @@ BodyId World::createBody(const BodyDef& d) {
   b.angularDamping = d.angularDamping;
   b.gravityScale = d.gravityScale;
   b.sensor = d.isSensor;
+  b.filter = d.filter;
   b.allowSleep = d.allowSleep;
   b.awake = d.type != BodyType::Static && d.isAwake;
   b.userData = d.userData;
@@ -460,6 +471,16 @@ void World::setMaterial(BodyId id, const MaterialDef& m) {
   b.material.restitution = m.restitution;
 }
 
+void World::setCollisionFilter(BodyId id, const CollisionFilter& filter) {
+  Body& b = impl_->body(id, "setCollisionFilter.id");
+  b.filter = filter;
+  impl_->wakeAround(id.index);
+}
+
+CollisionFilter World::collisionFilter(BodyId id) const {
+  return impl_->body(id, "collisionFilter.id").filter;
+}
+
 void World::wake(BodyId id) {
   impl_->body(id, "wake.id");
   impl_->wakeBody(id.index);
@@ -493,14 +514,14 @@ void validateRay(const Vec3& origin, const Vec3& dir, double maxDistance, const 
 }
 }  // namespace
 
-std::optional<WorldRayHit> World::rayCast(const Vec3& origin, const Vec3& dir,
-                                          double maxDistance) const {
+std::optional<WorldRayHit> World::rayCast(const Vec3& origin, const Vec3& dir, double maxDistance,
+                                          const QueryFilter& filter) const {
   validateRay(origin, dir, maxDistance, "rayCast.origin", "rayCast.dir", "rayCast.maxDistance");
   std::optional<WorldRayHit> best;
   double bestT = maxDistance;
   for (uint32_t i = 0; i < impl_->bodies.size(); ++i) {
     const Body& b = impl_->bodies[i];
-    if (!b.alive || b.sensor) continue;
+    if (!b.alive || b.sensor || !(filter.mask & b.filter.category)) continue;
     if (!rayHitsBox(b.aabb, origin, dir, bestT)) continue;
     RayHit h;
     if (grip::rayCast(*b.shape, b.pose, origin, dir, bestT, h) && (!best || h.distance < bestT)) {
@@ -531,7 +552,7 @@ std::optional<RayHit> World::rayCastBody(BodyId id, const Vec3& origin, const Ve
 }
 
 void World::overlap(const Shape& shape, const Transform& t, double margin,
-                    std::vector<OverlapHit>& hits) const {
+                    std::vector<OverlapHit>& hits, const QueryFilter& filter) const {
   requireFinite(t.p, "overlap.transform.position");
   requireFinite(t.q, "overlap.transform.orientation");
   requireNonNegative(margin, "overlap.margin");
@@ -541,7 +562,8 @@ void World::overlap(const Shape& shape, const Transform& t, double margin,
   std::vector<Manifold>& scratch = impl_->scratch;
   for (uint32_t i = 0; i < impl_->bodies.size(); ++i) {
     const Body& b = impl_->bodies[i];
-    if (!b.alive || b.sensor || !b.aabb.overlaps(box)) continue;
+    if (!b.alive || b.sensor || !(filter.mask & b.filter.category) || !b.aabb.overlaps(box))
+      continue;
     scratch.clear();
     collide(shape, t, *b.shape, b.pose, margin, scratch);
     for (const Manifold& m : scratch) hits.push_back(OverlapHit{impl_->idOf(i), m});

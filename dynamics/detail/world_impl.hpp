@@ -46,6 +46,7 @@ struct Body {
   Vec3 linearAccel = Vec3::Zero(), angularAccel = Vec3::Zero();  // ForceMode::Acceleration
   double linearDamping = 0.0, angularDamping = 0.0, gravityScale = 1.0;
   bool sensor = false, allowSleep = true, awake = true;
+  CollisionFilter filter;
   double sleepTime = 0.0;
   // Where the body was when its calm time began: a body that only trembles about a pose (the
   // rest of a pile does) stays calm, as its mean velocity over the calm time is small.
@@ -448,6 +449,7 @@ struct World::Impl {
   const detail::Body& body(BodyId id, const char* field) const;
   BodyId idOf(uint32_t slot) const { return BodyId{slot, bodies[slot].generation}; }
   void wakeBody(uint32_t slot);
+  void wakeAround(uint32_t slot);  // the body, and every body near it
   void refreshBounds(detail::Body& b) const;
   bool calm(const detail::Body& b, double dt) const;
 };

@@ -134,6 +134,10 @@ TEST(BadInput, UnknownAndStaleIds) {
   EXPECT_FALSE(f.w.isValid(temp));
   expectRejected(f, "setLinearVelocity.id", [&] { f.w.setLinearVelocity(temp, Vec3::Zero()); });
   expectRejected(f, "destroyBody.id", [&] { f.w.destroyBody(temp); });
+  expectRejected(f, "setCollisionFilter.id", [&] {
+    f.w.setCollisionFilter(temp, CollisionFilter{2, 0, 0});
+  });
+  expectRejected(f, "collisionFilter.id", [&] { (void)f.w.collisionFilter(temp); });
   expectRejected(f, "contactManifolds.b",
                  [&] { (void)f.w.contactManifolds(f.w.bodies()[0], temp); });
   // The slot is reused with a new generation: the old id stays stale.
