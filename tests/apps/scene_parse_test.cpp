@@ -22,7 +22,8 @@ json minimal() {
       {"name": "floor", "type": "static", "shape": {"type": "plane", "normal": [0, 1, 0], "offset": 0}},
       {"name": "a", "shape": {"type": "box", "halfExtents": [0.1, 0.2, 0.3]}, "position": [0, 1, 0],
        "orientation": {"axis": [0, 1, 0], "degrees": 90}, "material": "wood"},
-      {"name": "b", "shape": {"type": "sphere", "radius": 0.1}, "mass": 2, "linearVelocity": [1, 0, 0]},
+      {"name": "b", "shape": {"type": "sphere", "radius": 0.1}, "mass": 2, "linearVelocity": [1, 0, 0],
+       "filter": {"category": [2], "mask": [0, 2, 63], "group": -4}},
       {"name": "c", "shape": {"type": "capsule", "radius": 0.05, "halfHeight": 0.1}, "orientation": [1, 0, 0, 0]},
       {"name": "d", "shape": {"type": "hull", "points": [[0,0,0],[0.1,0,0],[0,0.1,0],[0,0,0.1]]}}
     ],
@@ -59,6 +60,10 @@ TEST(SceneParse, AValidSceneFillsTheDefs) {
       0.0, 1e-12);
   EXPECT_DOUBLE_EQ(s.bodies[2].def.mass, 2.0);
   EXPECT_EQ(s.bodies[2].def.linearVelocity, Vec3(1, 0, 0));
+  EXPECT_EQ(s.bodies[2].def.filter.category, 4u);
+  EXPECT_EQ(s.bodies[2].def.filter.mask, 5u | (uint64_t{1} << 63));
+  EXPECT_EQ(s.bodies[2].def.filter.group, -4);
+  EXPECT_EQ(s.bodies[1].def.filter.mask, ~uint64_t{0});  // the default: every kind
   EXPECT_EQ(s.interaction.method, InteractionMethod::Kinematic);
   EXPECT_DOUBLE_EQ(s.interaction.gamma, 500.0);
   ASSERT_EQ(s.hands.size(), 1u);
@@ -80,6 +85,10 @@ TEST(SceneParse, ErrorsNameTheJsonPath) {
       {"bodies[1].material", "\"steel\"", "bodies[1].material: unknown material \"steel\""},
       {"bodies[1].colour", "1", "bodies[1].colour: unknown field"},
       {"bodies[3].position", "[1, 2]", "bodies[3].position: must be an array of 3 numbers"},
+      {"bodies[2].filter.mask[1]", "64", "bodies[2].filter.mask[1]: must be between 0 and 63"},
+      {"bodies[2].filter.category", "2", "bodies[2].filter.category: must be an array of kinds"},
+      {"bodies[2].filter.layer", "1", "bodies[2].filter.layer: unknown field"},
+      {"bodies[2].filter.group", "0.5", "bodies[2].filter.group: must be an integer"},
       {"world.substeps", "0", "world.substeps: must be between 1 and 1000"},
       {"world.substeps", "2.5", "world.substeps: must be an integer"},
       {"world.dt", "0.01", "world.dt: give either hz or dt"},

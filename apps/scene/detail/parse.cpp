@@ -3,6 +3,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <set>
 #include <sstream>
@@ -301,13 +302,33 @@ BodyInteractionDef parseBodyInteraction(const json& j, const std::string& path) 
   return d;
 }
 
+// Kinds as a list of numbers from 0 to 63, one bit each.
+uint64_t kinds(const json& j, const std::string& path) {
+  if (!j.is_array()) fail(path, "must be an array of kinds (integers from 0 to 63)");
+  uint64_t bits = 0;
+  for (size_t i = 0; i < j.size(); ++i) bits |= uint64_t{1} << integer(j[i], index(path, i), 0, 63);
+  return bits;
+}
+
+CollisionFilter parseFilter(const json& j, const std::string& path) {
+  object(j, path, {"category", "mask", "group"});
+  CollisionFilter f;
+  opt(j, path, "category", [&](const json& v, const std::string& p) { f.category = kinds(v, p); });
+  opt(j, path, "mask", [&](const json& v, const std::string& p) { f.mask = kinds(v, p); });
+  opt(j, path, "group", [&](const json& v, const std::string& p) {
+    f.group =
+        integer(v, p, std::numeric_limits<int32_t>::min(), std::numeric_limits<int32_t>::max());
+  });
+  return f;
+}
+
 BodySpec parseBody(const json& j, const std::string& path, size_t i,
                    const std::map<std::string, MaterialDef>& materials,
                    const std::string& baseDir) {
   object(j, path,
          {"name", "type", "shape", "position", "orientation", "linearVelocity", "angularVelocity",
           "mass", "density", "material", "gravityScale", "linearDamping", "angularDamping",
-          "allowSleep", "interaction"});
+          "allowSleep", "filter", "interaction"});
   BodySpec b;
   BodyDef& d = b.def;
   d.name = "body" + std::to_string(i);
@@ -361,6 +382,8 @@ BodySpec parseBody(const json& j, const std::string& path, size_t i,
       [&](const json& v, const std::string& p) { d.angularDamping = nonNegative(v, p); });
   opt(j, path, "allowSleep",
       [&](const json& v, const std::string& p) { d.allowSleep = boolean(v, p); });
+  opt(j, path, "filter",
+      [&](const json& v, const std::string& p) { d.filter = parseFilter(v, p); });
   opt(j, path, "interaction",
       [&](const json& v, const std::string& p) { b.interaction = parseBodyInteraction(v, p); });
   return b;
