@@ -22,6 +22,14 @@ bool rayCast(const Shape& s, const Transform& t, const Vec3& origin, const Vec3&
 bool rayCastChild(const Shape& s, const Transform& t, uint32_t child, const Vec3& origin,
                   const Vec3& dir, double maxDistance, RayHit& hit);
 
+// First contact of the convex shape `moving` (not a plane or compound) swept from `tm` along
+// dir, 0 <= t <= maxDistance, with the shape s at t: hit.distance is how far it moved, point a
+// point where they touch and normal the outward normal of s there (a compound: of the child
+// hit first). A shape that starts touching or overlapping s hits at 0 with the normal
+// opposing dir. dir is unit length.
+bool shapeCast(const Shape& s, const Transform& t, const Shape& moving, const Transform& tm,
+               const Vec3& dir, double maxDistance, RayHit& hit);
+
 struct SurfacePoint {
   Vec3 point = Vec3::Zero();    // world, closest point on the surface
   Vec3 normal = Vec3::UnitY();  // world, outward

@@ -228,6 +228,11 @@ class World {
   // Ray cast against one body only (child: one compound child, or -1 for all).
   std::optional<RayHit> rayCastBody(BodyId id, const Vec3& origin, const Vec3& dir,
                                     double maxDistance, int child = -1) const;
+  // The first body a convex shape (not a plane or compound) swept from `t` along dir would
+  // touch within maxDistance (Unity's SphereCast and BoxCast, Jolt's CastShape): how far it
+  // moved, where and with which normal of the body it touched (collision/query.hpp).
+  std::optional<WorldRayHit> shapeCast(const Shape& shape, const Transform& t, const Vec3& dir,
+                                       double maxDistance, const QueryFilter& filter = {}) const;
   // Bodies (and their children) within `margin` of `shape` placed at `t`, ordered by body.
   void overlap(const Shape& shape, const Transform& t, double margin, std::vector<OverlapHit>& hits,
                const QueryFilter& filter = {}) const;

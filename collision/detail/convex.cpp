@@ -258,6 +258,42 @@ bool convexRayCast(const Shape& s, const Vec3& origin, const Vec3& dir, double m
   return true;
 }
 
+// Conservative advancement on the cores (as Box2D's b2ShapeCast): the plane through the cores'
+// closest points separates them until the moving shape has closed the gap across it, so it
+// may advance that far at least; flat faces meet in one step, round ones converge fast.
+bool convexShapeCast(const Shape& target, const Shape& moving, const Transform& movingPose,
+                     const Vec3& dir, double maxDistance, double& t, Vec3& normal, Vec3& point) {
+  const Core a(target, Transform{});
+  const double radius = target.radius() + moving.radius();
+  const double size = target.localBounds().extent().norm() + moving.localBounds().extent().norm();
+  const double tolerance = 1e-10 * std::max(1.0, size);
+  t = 0.0;
+  normal = Vec3::Zero();
+  Vec3 lastNormal = Vec3::Zero(), lastPoint = Vec3::Zero();
+  for (int iter = 0; iter < 50; ++iter) {
+    const Core b(moving, Transform{movingPose.p + t * dir, movingPose.q});
+    const CoreDistance d = coreDistance(a, b);
+    if (d.overlap || !(d.distance > 0.0)) {  // the cores touch: where the cast began, or by
+      if (t > 0.0) normal = lastNormal;      // rounding just short of it (the last step's)
+      point = t > 0.0 ? lastPoint : d.pointA;
+      return true;
+    }
+    const Vec3 n = (d.pointB - d.pointA) / d.distance;  // the target's outward normal
+    const double gap = d.distance - radius;
+    lastNormal = n, lastPoint = d.pointA + target.radius() * n;
+    if (gap <= tolerance) {
+      if (t > 0.0) normal = n;
+      point = lastPoint;
+      return true;
+    }
+    const double closing = -n.dot(dir);
+    if (!(closing > 0.0)) return false;      // the plane stays between them
+    t += (gap - 0.5 * tolerance) / closing;  // short of touching: the closest points stay known
+    if (t > maxDistance) return false;
+  }
+  return false;  // not converged (grazing): no hit reported
+}
+
 namespace {
 
 void ccdSupport(const void* obj, const ccd_vec3_t* dir, ccd_vec3_t* vec) {

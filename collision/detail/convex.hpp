@@ -38,6 +38,11 @@ CoreDistance pointDistance(const Core& a, const Vec3& x);
 // Starting inside gives t = 0 and a zero normal. dir is unit length.
 bool convexRayCast(const Shape& s, const Vec3& origin, const Vec3& dir, double maxDistance,
                    double& t, Vec3& normal);
+// A convex shape moving along dir from movingPose (in the target's frame): the first t at which
+// it touches the target, the target's outward normal and a point of the target's surface
+// there. Starting in touch gives t = 0 and a zero normal. dir is unit length.
+bool convexShapeCast(const Shape& target, const Shape& moving, const Transform& movingPose,
+                     const Vec3& dir, double maxDistance, double& t, Vec3& normal, Vec3& point);
 
 struct CorePenetration {
   bool ok = false;

@@ -185,6 +185,16 @@ void checkRay(const Vec3& origin, const Vec3& dir, double maxDistance) {
     throw Error("rayCast.maxDistance", "must not be negative");
 }
 
+// Keeps h, a hit on compound child `child`, if it is the first or nearer than the best so far
+// (ties go to the lower child index).
+void keepNearest(const RayHit& h, uint32_t child, bool& found, double& best, RayHit& hit) {
+  if (found && !(h.distance < best || (h.distance == best && child < hit.child))) return;
+  hit = h;
+  hit.child = child;
+  best = h.distance;
+  found = true;
+}
+
 void checkChild(const Shape& s, uint32_t child, const char* field) {
   if (s.type() == ShapeType::Compound && child >= s.children().size())
     throw Error(field, "no such compound child (" + std::to_string(child) + ")");
@@ -219,13 +229,7 @@ bool rayCast(const Shape& s, const Transform& t, const Vec3& origin, const Vec3&
     const CompoundChild& c = s.children()[n.child];
     RayHit h;
     if (!rayShape(*c.shape, t * c.local, origin, dir, best, h)) continue;
-    const uint32_t idx = static_cast<uint32_t>(n.child);
-    if (!found || h.distance < best || (h.distance == best && idx < hit.child)) {
-      hit = h;
-      hit.child = idx;
-      best = h.distance;
-      found = true;
-    }
+    keepNearest(h, static_cast<uint32_t>(n.child), found, best, hit);
   }
   return found;
 }
@@ -242,6 +246,71 @@ bool rayCastChild(const Shape& s, const Transform& t, uint32_t child, const Vec3
   if (!rayShape(*c.shape, t * c.local, origin, dir, maxDistance, hit)) return false;
   hit.child = child;
   return true;
+}
+
+namespace {
+
+// The moving shape against a non-compound shape s, both in the world. False if it misses.
+bool castAgainst(const Shape& s, const Transform& t, const Shape& moving, const Transform& tm,
+                 const Vec3& dir, double maxT, RayHit& hit) {
+  const Transform m = t.inverse() * tm;  // the moving shape in s's frame
+  const Vec3 d = t.rotateInverse(dir);
+  double at = 0.0;
+  Vec3 n = Vec3::Zero(), p = Vec3::Zero();
+  if (s.type() == ShapeType::Plane) {
+    const Vec3 up = s.planeNormal();
+    p = m.apply(moving.support(m.rotateInverse(-up)));  // the moving shape's lowest point
+    const double gap = up.dot(p) - s.planeOffset();
+    if (gap > 0.0) {
+      const double closing = up.dot(d);
+      if (closing >= 0.0 || -gap / closing > maxT) return false;
+      at = -gap / closing;
+      n = up;
+    }
+    p += at * d;
+  } else if (!detail::convexShapeCast(s, moving, m, d, maxT, at, n, p)) {
+    return false;
+  }
+  hit.distance = at;
+  hit.normal = n.squaredNorm() > 0.0 ? Vec3(t.rotate(n)) : Vec3(-dir);
+  hit.point = t.apply(p);
+  return true;
+}
+
+}  // namespace
+
+bool shapeCast(const Shape& s, const Transform& t, const Shape& moving, const Transform& tm,
+               const Vec3& dir, double maxDistance, RayHit& hit) {
+  requireFinite(tm.p, "shapeCast.pose.position");
+  requireFinite(tm.q, "shapeCast.pose.orientation");
+  requireFinite(dir, "shapeCast.dir");
+  if (std::abs(dir.norm() - 1.0) > 1e-6) throw Error("shapeCast.dir", "must be unit length");
+  if (std::isnan(maxDistance) || maxDistance < 0.0)
+    throw Error("shapeCast.maxDistance", "must not be negative");
+  if (!moving.isConvex())
+    throw Error("shapeCast.shape", "must be convex (a sphere, capsule, box or hull)");
+  if (s.type() != ShapeType::Compound) {
+    hit.child = 0;
+    return castAgainst(s, t, moving, tm, dir, maxDistance, hit);
+  }
+  // The children whose boxes the swept shape's box overlaps (in the compound's frame), nearest
+  // hit first; ties go to the lower child index.
+  const Transform m = t.inverse() * tm;
+  Aabb swept = moving.bounds(m);
+  const Vec3 d = t.rotateInverse(dir);
+  for (int k = 0; k < 3; ++k) {
+    if (d[k] > 0.0) swept.max[k] += maxDistance * d[k];
+    if (d[k] < 0.0) swept.min[k] += maxDistance * d[k];
+  }
+  double best = maxDistance;
+  bool found = false;
+  s.tree().query(swept, [&](int32_t index) {
+    const CompoundChild& c = s.children()[static_cast<size_t>(index)];
+    RayHit h;
+    if (!castAgainst(*c.shape, t * c.local, moving, tm, dir, best, h)) return;
+    keepNearest(h, static_cast<uint32_t>(index), found, best, hit);
+  });
+  return found;
 }
 
 namespace {

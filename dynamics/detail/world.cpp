@@ -532,6 +532,36 @@ std::optional<WorldRayHit> World::rayCast(const Vec3& origin, const Vec3& dir, d
   return best;
 }
 
+std::optional<WorldRayHit> World::shapeCast(const Shape& shape, const Transform& t, const Vec3& dir,
+                                            double maxDistance, const QueryFilter& filter) const {
+  requireFinite(t.p, "shapeCast.transform.position");
+  requireFinite(t.q, "shapeCast.transform.orientation");
+  validateRay(t.p, dir, maxDistance, "shapeCast.transform.position", "shapeCast.dir",
+              "shapeCast.maxDistance");
+  if (!shape.isConvex())
+    throw Error("shapeCast.shape", "must be convex (a sphere, capsule, box or hull)");
+  const Transform pose{t.p, t.q.normalized()};
+  Aabb swept = shape.bounds(pose);  // the box the shape sweeps through
+  for (int k = 0; k < 3; ++k) {
+    if (dir[k] > 0.0) swept.max[k] += maxDistance * dir[k];
+    if (dir[k] < 0.0) swept.min[k] += maxDistance * dir[k];
+  }
+  std::optional<WorldRayHit> best;
+  double bestT = maxDistance;
+  for (uint32_t i = 0; i < impl_->bodies.size(); ++i) {
+    const Body& b = impl_->bodies[i];
+    if (!b.alive || b.sensor || !(filter.mask & b.filter.category)) continue;
+    if (!b.aabb.overlaps(swept)) continue;
+    RayHit h;
+    if (grip::shapeCast(*b.shape, b.pose, shape, pose, dir, bestT, h) &&
+        (!best || h.distance < bestT)) {
+      bestT = h.distance;
+      best = WorldRayHit{impl_->idOf(i), h};
+    }
+  }
+  return best;
+}
+
 std::optional<RayHit> World::rayCastBody(BodyId id, const Vec3& origin, const Vec3& dir,
                                          double maxDistance, int child) const {
   const Body& b = impl_->body(id, "rayCastBody.id");

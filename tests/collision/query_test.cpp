@@ -27,6 +27,14 @@ void expectMiss(const Shape& s, const Transform& t, const Vec3& o, const Vec3& d
   EXPECT_FALSE(rayCast(s, t, o, d.normalized(), maxD, h)) << shapeTypeName(s.type());
 }
 
+// Eight unit cubes in a row along x, 2 m apart (gaps of 1 m), the compound at y = 1.
+ShapePtr rowOfCubes() {
+  auto cube = Shape::box(Vec3(0.5, 0.5, 0.5));
+  std::vector<CompoundChild> kids;
+  for (int i = 0; i < 8; ++i) kids.push_back({cube, at(Vec3(2.0 * i, 0, 0))});
+  return Shape::compound(kids);
+}
+
 }  // namespace
 
 TEST(RayCast, SphereHitMissAndInside) {
@@ -93,10 +101,7 @@ TEST(RayCast, RoundedShapesByConservativeAdvancement) {
 }
 
 TEST(RayCast, CompoundReturnsNearestChild) {
-  auto cube = Shape::box(Vec3(0.5, 0.5, 0.5));
-  std::vector<CompoundChild> kids;
-  for (int i = 0; i < 8; ++i) kids.push_back({cube, at(Vec3(2.0 * i, 0, 0))});
-  auto c = Shape::compound(kids);
+  auto c = rowOfCubes();
   const Transform t = at(Vec3(0, 1, 0));
   RayHit h;
   ASSERT_TRUE(rayCast(*c, t, Vec3(20, 1.2, 0), -Vec3::UnitX(), 100, h));
@@ -180,4 +185,117 @@ TEST(ClosestPoint, CompoundSkipsFacesSharedBetweenChildren) {
   const SurfacePoint r = closestPoint(*c, t, t.apply(Vec3(0.9, 0.1, 0)));
   EXPECT_NEAR(r.distance, -0.1, 1e-12);
   EXPECT_EQ(r.child, 1u);
+}
+
+TEST(ShapeCast, ASphereSweptIsARayCastAgainstTheTargetGrownByItsRadius) {
+  const double r = 0.1;
+  auto ball = Shape::sphere(r);
+  const std::vector<ShapePtr> targets = {
+      Shape::sphere(0.5), Shape::box(Vec3(0.5, 0.3, 0.4)), Shape::capsule(0.2, 0.5),
+      Shape::convexHull({Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(0, 0, 1)}),
+      Shape::box(Vec3(0.4, 0.4, 0.4), 0.05)};
+  const Transform t = at(Vec3(0.1, 0.2, -0.1), rot(0.7, Vec3(1, 2, 3).normalized()));
+  const std::vector<std::pair<Vec3, Vec3>> rays = {{Vec3(-3, 0.1, 0.05), Vec3(1, 0, 0)},
+                                                   {Vec3(0.2, 4, 0.1), Vec3(0, -1, 0)},
+                                                   {Vec3(2, 2, 2), Vec3(-1, -1, -1)},
+                                                   {Vec3(0.3, -2, 3), Vec3(0, 1, -1.2)}};
+  for (const ShapePtr& target : targets) {
+    const ShapePtr grown = target->inflated(r);
+    for (const auto& [o, d] : rays) {
+      const Vec3 dir = d.normalized();
+      RayHit cast, ray;
+      const bool hits = rayCast(*grown, t, o, dir, 10.0, ray);
+      ASSERT_EQ(shapeCast(*target, t, *ball, at(o), dir, 10.0, cast), hits)
+          << shapeTypeName(target->type());
+      if (!hits) continue;
+      // (The grown box and hull are rounded: their ray cast converges to about 1e-7 m.)
+      const char* name = shapeTypeName(target->type());
+      EXPECT_NEAR(cast.distance, ray.distance, 1e-6) << name;
+      EXPECT_LT((cast.normal - ray.normal).norm(), 1e-3) << name;
+      // The first touch: the ball's centre a radius from the target there and not before; the
+      // point on the target's surface, the normal from it to the centre.
+      const Vec3 centre = o + cast.distance * dir;
+      EXPECT_NEAR(closestPoint(*target, t, centre).distance, r, 1e-9) << name;
+      EXPECT_GT(closestPoint(*target, t, centre - 1e-6 * dir).distance, r) << name;
+      EXPECT_NEAR(closestPoint(*target, t, cast.point).distance, 0.0, 1e-9) << name;
+      EXPECT_LT((cast.normal - (centre - cast.point) / r).norm(), 1e-6) << name;
+    }
+  }
+}
+
+TEST(ShapeCast, ABoxOnItsEdgeMeetsThePlaneWithItsLowestEdge) {
+  auto cube = Shape::box(Vec3(0.5, 0.5, 0.5));
+  auto ground = Shape::plane(Vec3::UnitY(), 0.0);
+  const Transform onEdge = at(Vec3(0, 2, 0), rot(kPi / 4, Vec3::UnitZ()));
+  RayHit h;
+  ASSERT_TRUE(shapeCast(*ground, at(Vec3::Zero()), *cube, onEdge, -Vec3::UnitY(), 10.0, h));
+  EXPECT_NEAR(h.distance, 2.0 - 0.5 * std::sqrt(2.0), 1e-12);
+  EXPECT_LT((h.normal - Vec3::UnitY()).norm(), 1e-12);
+  EXPECT_NEAR(h.point.x(), 0.0, 1e-12);
+  EXPECT_NEAR(h.point.y(), 0.0, 1e-12);
+  EXPECT_FALSE(shapeCast(*ground, at(Vec3::Zero()), *cube, onEdge, Vec3::UnitX(), 10.0, h));
+  EXPECT_FALSE(shapeCast(*ground, at(Vec3::Zero()), *cube, onEdge, Vec3::UnitY(), 10.0, h));
+  EXPECT_FALSE(shapeCast(*ground, at(Vec3::Zero()), *cube, onEdge, -Vec3::UnitY(), 1.2, h));
+  // Face down onto a bigger box: the faces meet after 3 - 0.5 - 1.
+  auto big = Shape::box(Vec3(1, 1, 1));
+  ASSERT_TRUE(
+      shapeCast(*big, at(Vec3::Zero()), *cube, at(Vec3(0.3, 3, -0.2)), -Vec3::UnitY(), 10.0, h));
+  EXPECT_NEAR(h.distance, 1.5, 1e-9);
+  EXPECT_LT((h.normal - Vec3::UnitY()).norm(), 1e-6);
+  EXPECT_NEAR(h.point.y(), 1.0, 1e-9);
+}
+
+TEST(ShapeCast, StartingInContactHitsAtZeroWithTheNormalOpposingTheCast) {
+  auto cube = Shape::box(Vec3(0.5, 0.5, 0.5));
+  auto ball = Shape::sphere(0.3);
+  RayHit h;
+  ASSERT_TRUE(shapeCast(*cube, at(Vec3::Zero()), *ball, at(Vec3(0.6, 0, 0)), Vec3::UnitX(), 5, h));
+  EXPECT_EQ(h.distance, 0.0);
+  EXPECT_EQ(h.normal, -Vec3::UnitX());
+  auto ground = Shape::plane(Vec3::UnitY(), 0.0);
+  ASSERT_TRUE(
+      shapeCast(*ground, at(Vec3::Zero()), *cube, at(Vec3(0, 0.4, 0)), Vec3::UnitY(), 5, h));
+  EXPECT_EQ(h.distance, 0.0);
+  EXPECT_EQ(h.normal, -Vec3::UnitY());
+}
+
+TEST(ShapeCast, ACompoundReportsTheChildMetFirst) {
+  auto c = rowOfCubes();
+  const Transform t = at(Vec3(0, 1, 0));
+  auto ball = Shape::sphere(0.2);
+  RayHit h;
+  ASSERT_TRUE(shapeCast(*c, t, *ball, at(Vec3(20, 1.2, 0)), -Vec3::UnitX(), 100, h));
+  EXPECT_EQ(h.child, 7u);
+  EXPECT_NEAR(h.distance, 20 - 14.5 - 0.2, 1e-9);
+  ASSERT_TRUE(shapeCast(*c, t, *ball, at(Vec3(6.2, 5, 0)), -Vec3::UnitY(), 100, h));
+  EXPECT_EQ(h.child, 3u);
+  EXPECT_NEAR(h.distance, 3.5 - 0.2, 1e-9);
+  // Between two cubes a ray falls through (RayCast.CompoundReturnsNearestChild); a ball as
+  // wide as the gap does not.
+  EXPECT_FALSE(shapeCast(*c, t, *Shape::sphere(0.4), at(Vec3(5, 5, 0)), -Vec3::UnitY(), 100, h));
+  ASSERT_TRUE(shapeCast(*c, t, *Shape::sphere(0.6), at(Vec3(5, 5, 0)), -Vec3::UnitY(), 100, h));
+  EXPECT_EQ(h.child, 2u);  // a tie between children 2 and 3: the lower index
+}
+
+TEST(ShapeCast, BadInputNamesTheField) {
+  auto cube = Shape::box(Vec3(0.5, 0.5, 0.5));
+  const Transform t = at(Vec3::Zero());
+  RayHit h;
+  auto fieldOf = [&](const Shape& moving, const Transform& tm, const Vec3& dir, double maxD) {
+    try {
+      shapeCast(*cube, t, moving, tm, dir, maxD, h);
+    } catch (const Error& e) {
+      return e.field();
+    }
+    return std::string();
+  };
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_EQ(fieldOf(*cube, at(Vec3(3, 0, 0)), Vec3(2, 0, 0), 5), "shapeCast.dir");
+  EXPECT_EQ(fieldOf(*cube, at(Vec3(nan, 0, 0)), Vec3(1, 0, 0), 5), "shapeCast.pose.position");
+  EXPECT_EQ(fieldOf(*cube, at(Vec3(3, 0, 0), Quat(0, 0, 0, 0)), Vec3(1, 0, 0), 5),
+            "shapeCast.pose.orientation");
+  EXPECT_EQ(fieldOf(*cube, at(Vec3(3, 0, 0)), Vec3(1, 0, 0), -1), "shapeCast.maxDistance");
+  EXPECT_EQ(fieldOf(*Shape::plane(Vec3::UnitY(), 0), t, Vec3(1, 0, 0), 5), "shapeCast.shape");
+  EXPECT_EQ(fieldOf(*Shape::compound({{cube, t}}), t, Vec3(1, 0, 0), 5), "shapeCast.shape");
+  EXPECT_EQ(fieldOf(*cube, at(Vec3(3, 0, 0)), Vec3(1, 0, 0), 5), "");
 }

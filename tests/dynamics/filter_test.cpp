@@ -195,6 +195,18 @@ TEST(QueryFilter, RayCastsAndOverlapsSkipTheKindsTheMaskLeavesOut) {
   EXPECT_NEAR(hit->hit.distance, 3.0 - kHalf, 1e-9);
   EXPECT_FALSE(w.rayCast(origin, dir, 10.0, QueryFilter{0}));
 
+  // A shape cast along the same line: the ball's radius short of the ray's hits.
+  const ShapePtr small = Shape::sphere(0.05);
+  auto cast = w.shapeCast(*small, Transform{origin, Quat::Identity()}, dir, 10.0);
+  ASSERT_TRUE(cast);
+  EXPECT_EQ(cast->body, near);
+  EXPECT_NEAR(cast->hit.distance, 2.0 - kHalf - 0.05, 1e-9);
+  cast = w.shapeCast(*small, Transform{origin, Quat::Identity()}, dir, 10.0,
+                     QueryFilter{kAll & ~uint64_t{2}});
+  ASSERT_TRUE(cast);
+  EXPECT_EQ(cast->body, far);
+  EXPECT_NEAR(cast->hit.distance, 3.0 - kHalf - 0.05, 1e-9);
+
   const ShapePtr ball = Shape::sphere(1.0);
   const Transform at{Vec3(1.5, 0, 0), Quat::Identity()};
   std::vector<OverlapHit> hits;

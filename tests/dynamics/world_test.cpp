@@ -27,6 +27,15 @@ BodyId addGround(World& w, double friction = 0.6, double dynamicFriction = 0.5) 
   return w.createBody(g);
 }
 
+BodyId addStaticSensor(World& w, const ShapePtr& shape, const Vec3& pos) {
+  BodyDef s;
+  s.type = BodyType::Static;
+  s.shape = shape;
+  s.position = pos;
+  s.isSensor = true;
+  return w.createBody(s);
+}
+
 BodyId addBox(World& w, const Vec3& pos, const Vec3& half, double mass = 1.0) {
   BodyDef d;
   d.shape = Shape::box(half);
@@ -965,12 +974,7 @@ TEST(Events, AgreeWithTheManifoldsInAWorldOfTwoRegions) {
 
 TEST(Sensors, ReportOverlapsAndNeverMakeConstraints) {
   World w;
-  BodyDef s;
-  s.type = BodyType::Static;
-  s.shape = Shape::box(Vec3(1, 0.5, 1));
-  s.position = Vec3(0, 0.5, 0);
-  s.isSensor = true;
-  const BodyId sensor = w.createBody(s);
+  const BodyId sensor = addStaticSensor(w, Shape::box(Vec3(1, 0.5, 1)), Vec3(0, 0.5, 0));
   BodyDef d;
   d.shape = Shape::sphere(0.1);
   d.position = Vec3(0, 2, 0);
@@ -987,6 +991,39 @@ TEST(Sensors, ReportOverlapsAndNeverMakeConstraints) {
   }
   EXPECT_EQ(begins, 1);
   EXPECT_LT(w.pose(ball).p.y(), 0.0);  // fell straight through
+}
+
+TEST(ShapeCast, FindsTheFirstBodyTheShapeWouldTouchAndSkipsSensors) {
+  World w;
+  const BodyId ground = addGround(w);
+  const BodyId low = addBox(w, Vec3(0, 0.1, 0), Vec3::Constant(0.1));   // top face at 0.2
+  const BodyId high = addBox(w, Vec3(1, 0.5, 0), Vec3::Constant(0.1));  // top face at 0.6
+  addStaticSensor(w, Shape::box(Vec3(5, 0.1, 5)), Vec3(0, 1.5, 0));
+  // A 0.4 m cube swept down from 3 m over both boxes: it meets the higher one first.
+  const ShapePtr cube = Shape::box(Vec3::Constant(0.2));
+  const Vec3 down(0, -1, 0);
+  auto hit = w.shapeCast(*cube, Transform{Vec3(0.85, 3, 0), Quat::Identity()}, down, 10.0);
+  ASSERT_TRUE(hit);
+  EXPECT_EQ(hit->body, high);
+  EXPECT_NEAR(hit->hit.distance, 3 - 0.2 - 0.6, 1e-9);
+  EXPECT_NEAR(hit->hit.normal.y(), 1.0, 1e-9);
+  EXPECT_NEAR(hit->hit.point.y(), 0.6, 1e-9);
+  // Beside the higher box: the lower one; beside both: the ground; too short: nothing.
+  hit = w.shapeCast(*cube, Transform{Vec3(-0.2, 3, 0), Quat::Identity()}, down, 10.0);
+  ASSERT_TRUE(hit);
+  EXPECT_EQ(hit->body, low);
+  EXPECT_NEAR(hit->hit.distance, 3 - 0.2 - 0.2, 1e-9);
+  hit = w.shapeCast(*cube, Transform{Vec3(-3, 3, 0), Quat::Identity()}, down, 10.0);
+  ASSERT_TRUE(hit);
+  EXPECT_EQ(hit->body, ground);
+  EXPECT_NEAR(hit->hit.distance, 2.8, 1e-12);
+  EXPECT_FALSE(w.shapeCast(*cube, Transform{Vec3(-3, 3, 0), Quat::Identity()}, down, 2.5));
+  try {
+    (void)w.shapeCast(*Shape::plane(Vec3::UnitY(), 0), Transform{}, down, 1.0);
+    ADD_FAILURE() << "a plane was cast";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.field(), "shapeCast.shape");
+  }
 }
 
 TEST(Kinematic, MovesToTargetAndPushesDynamicBodies) {
