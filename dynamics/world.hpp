@@ -221,8 +221,7 @@ class World {
   CollisionFilter collisionFilter(BodyId id) const;
   void wake(BodyId id);
 
-  // Queries (sensors are skipped by ray casts and overlaps, and so are bodies of a kind the
-  // filter's mask does not hold).
+  // Queries. Sensors are skipped, and so are bodies of a kind the filter's mask does not hold.
   std::optional<WorldRayHit> rayCast(const Vec3& origin, const Vec3& dir, double maxDistance,
                                      const QueryFilter& filter = {}) const;
   // Ray cast against one body only (child: one compound child, or -1 for all).

@@ -534,7 +534,6 @@ std::optional<WorldRayHit> World::rayCast(const Vec3& origin, const Vec3& dir, d
 
 std::optional<WorldRayHit> World::shapeCast(const Shape& shape, const Transform& t, const Vec3& dir,
                                             double maxDistance, const QueryFilter& filter) const {
-  requireFinite(t.p, "shapeCast.transform.position");
   requireFinite(t.q, "shapeCast.transform.orientation");
   validateRay(t.p, dir, maxDistance, "shapeCast.transform.position", "shapeCast.dir",
               "shapeCast.maxDistance");
