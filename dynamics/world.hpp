@@ -64,8 +64,8 @@ struct QueryFilter {
 
 struct BodyDef {
   BodyType type = BodyType::Dynamic;
-  ShapePtr shape;
-  MaterialDef material;
+  ShapePtr shape = nullptr;
+  MaterialDef material = {};
   Vec3 position = Vec3::Zero();  // of the body origin (the shape frame)
   Quat orientation = Quat::Identity();
   Vec3 linearVelocity = Vec3::Zero();   // of the centre of mass
@@ -75,11 +75,11 @@ struct BodyDef {
   double angularDamping = 0.0;  // 1/s
   double gravityScale = 1.0;
   bool isSensor = false;  // reports overlaps, never makes contact constraints
-  CollisionFilter filter;
+  CollisionFilter filter = {};
   bool allowSleep = true;
   bool isAwake = true;
   uint64_t userData = 0;
-  std::string name;
+  std::string name = {};
 };
 
 struct WorldDef {

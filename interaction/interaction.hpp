@@ -64,6 +64,8 @@ struct InteractionDef {
   double trackingGrace = 0.1;       // s: a dropout shorter than this keeps the grasp
   double teleportDistance = 0.15;   // m: a bone jumping farther in one frame releases the hand
   double kinematicGripForce = 1.0;  // N: total normal grip that attaches (baseline only)
+  // The bodies the hands touch, by kind (CollisionFilter::category); the default touches all.
+  QueryFilter touchable = {};
 };
 
 // Per-body settings; unset fields use the InteractionDef's.

@@ -339,7 +339,7 @@ Transform Interaction::Impl::sweptBonePose(const World& w, const Hand& h, int bo
     for (int k = 0; k < 3; ++k)
       lead += shape.halfExtents()[k] * std::abs(dir.dot(from.rotate(Vec3::Unit(k))));
   }
-  const std::optional<WorldRayHit> hit = w.rayCast(from.p, dir, travel + lead);
+  const std::optional<WorldRayHit> hit = w.rayCast(from.p, dir, travel + lead, def.touchable);
   if (!hit || w.bodyType(hit->body) != BodyType::Dynamic) return to;
   const double t = std::max(0.0, (hit->hit.distance - lead - 0.5 * def.contactOffset) / travel);
   if (t >= 1.0) return to;
@@ -370,7 +370,7 @@ void Interaction::Impl::findContacts(const World& w) {
       const bool pressing = boneContact[bone] >= 0 && contacts[boneContact[bone]].anchored;
       const Transform pose = boneContact[bone] == -2 || pressing ? h.tracked.bones[bone]
                                                                  : sweptBonePose(w, h, bone, reach);
-      w.overlap(*h.shapes.bones[bone], pose, reach, hits);
+      w.overlap(*h.shapes.bones[bone], pose, reach, hits, def.touchable);
       for (size_t i = 0; i < hits.size(); ++i) {
         const BodyId body = hits[i].body;
         if (w.bodyType(body) != BodyType::Dynamic) continue;

@@ -27,7 +27,7 @@ json minimal() {
       {"name": "c", "shape": {"type": "capsule", "radius": 0.05, "halfHeight": 0.1}, "orientation": [1, 0, 0, 0]},
       {"name": "d", "shape": {"type": "hull", "points": [[0,0,0],[0.1,0,0],[0,0.1,0],[0,0,0.1]]}}
     ],
-    "interaction": {"method": "kinematic", "gamma": 500, "patchSamples": 5},
+    "interaction": {"method": "kinematic", "gamma": 500, "patchSamples": 5, "touchable": [0, 3]},
     "hands": [{"name": "h", "side": "left", "keyframes": [
       {"time": 0, "palm": {"position": [0, 0.5, 0]}, "pose": "pinch"},
       {"time": 1, "palm": {"position": [0, 0.6, 0]}, "pose": "open"}]}],
@@ -66,6 +66,7 @@ TEST(SceneParse, AValidSceneFillsTheDefs) {
   EXPECT_EQ(s.bodies[1].def.filter.mask, ~uint64_t{0});  // the default: every kind
   EXPECT_EQ(s.interaction.method, InteractionMethod::Kinematic);
   EXPECT_DOUBLE_EQ(s.interaction.gamma, 500.0);
+  EXPECT_EQ(s.interaction.touchable.mask, 9u);
   ASSERT_EQ(s.hands.size(), 1u);
   EXPECT_EQ(s.hands[0].def.side, Handedness::Left);
   EXPECT_EQ(s.hands[0].keys[0].pose, GraspPose::Pinch);
@@ -89,6 +90,7 @@ TEST(SceneParse, ErrorsNameTheJsonPath) {
       {"bodies[2].filter.category", "2", "bodies[2].filter.category: must be an array of kinds"},
       {"bodies[2].filter.layer", "1", "bodies[2].filter.layer: unknown field"},
       {"bodies[2].filter.group", "0.5", "bodies[2].filter.group: must be an integer"},
+      {"interaction.touchable[0]", "-1", "interaction.touchable[0]: must be between 0 and 63"},
       {"world.substeps", "0", "world.substeps: must be between 1 and 1000"},
       {"world.substeps", "2.5", "world.substeps: must be an integer"},
       {"world.dt", "0.01", "world.dt: give either hz or dt"},

@@ -623,6 +623,16 @@ TEST(EngineContract, ForcesFromAllHandsOnABodyAddUp) {
 // ---- events and the visual hand
 // ------------------------------------------------------------------
 
+// The index fingertip `depth` into the top face (y = 0.55) of the 10 cm cube at (0, 0.5, 0);
+// finds contacts and applies the hand's forces, without stepping the world.
+void pressIndexTip(Interaction& ix, World& w, HandId h, const HandDef& hd, double depth) {
+  HandPose p = parkedHand(hd);
+  pressBone(p, hd, boneIndex(Finger::Index, 2), Vec3(0, 0.55, 0), Vec3::UnitY(), Vec3::UnitZ(),
+            depth);
+  ix.setHandPose(h, p);
+  ix.update(w, kDt);
+}
+
 TEST(Events, BeginOnApproachEndOnLeaving) {
   World w;
   w.setGravity(Vec3::Zero());
@@ -631,12 +641,7 @@ TEST(Events, BeginOnApproachEndOnLeaving) {
   HandDef hd;
   const HandId h = ix.addHand(hd);
   const int bone = boneIndex(Finger::Index, 2);
-  auto at = [&](double depth) {
-    HandPose p = parkedHand(hd);
-    pressBone(p, hd, bone, Vec3(0, 0.55, 0), Vec3::UnitY(), Vec3::UnitZ(), depth);
-    ix.setHandPose(h, p);
-    ix.update(w, kDt);
-  };
+  auto at = [&](double depth) { pressIndexTip(ix, w, h, hd, depth); };
   at(-0.02);
   EXPECT_TRUE(ix.contactBeginEvents().empty());
   at(-0.003);  // within the 5 mm contact offset
@@ -652,6 +657,26 @@ TEST(Events, BeginOnApproachEndOnLeaving) {
   at(-0.02);
   ASSERT_EQ(ix.contactEndEvents().size(), 1u);
   EXPECT_EQ(ix.contactEndEvents()[0].body, cube);
+}
+
+TEST(Events, HandsTouchOnlyTheKindsTheyMayTouch) {
+  World w;
+  w.setGravity(Vec3::Zero());
+  InteractionDef def;
+  def.touchable.mask = ~uint64_t{2};
+  Interaction ix(def);
+  const BodyId cube = addBox(w, Vec3::Constant(0.05), 1.0, Vec3(0, 0.5, 0));
+  w.setCollisionFilter(cube, CollisionFilter{2, ~uint64_t{0}, 0});
+  HandDef hd;
+  const HandId h = ix.addHand(hd);
+  for (double depth : {-0.02, -0.003, 0.005}) pressIndexTip(ix, w, h, hd, depth);
+  EXPECT_TRUE(ix.contactBeginEvents().empty());
+  EXPECT_EQ(w.accumulatedForce(cube), Vec3::Zero());  // 5 mm deep, and never pushed
+  w.setCollisionFilter(cube, CollisionFilter{});      // now of a kind the hands touch
+  pressIndexTip(ix, w, h, hd, 0.005);
+  ASSERT_EQ(ix.contactBeginEvents().size(), 1u);
+  EXPECT_EQ(ix.contactBeginEvents()[0].body, cube);
+  EXPECT_LT(w.accumulatedForce(cube).y(), 0.0);  // pressed on its top face: pushed down
 }
 
 TEST(VisualHand, PressingBonesStayWhereContactBeganFreeBonesFollowTracking) {

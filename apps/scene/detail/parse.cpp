@@ -393,7 +393,7 @@ void parseInteraction(const json& j, const std::string& path, InteractionDef& d)
   object(j, path,
          {"method", "gamma", "slipLaw", "contactPoint", "contactOffset", "releaseMargin",
           "patchSamples", "surfaceUpdates", "skinStaticFriction", "skinDynamicFriction",
-          "kinematicGripForce", "trackingGrace", "teleportDistance"});
+          "kinematicGripForce", "trackingGrace", "teleportDistance", "touchable"});
   opt(j, path, "method", [&](const json& v, const std::string& p) {
     d.method = choice(v, p, std::array{"coulomb", "kinematic"}) == 0 ? InteractionMethod::Friction
                                                                      : InteractionMethod::Kinematic;
@@ -432,6 +432,8 @@ void parseInteraction(const json& j, const std::string& path, InteractionDef& d)
       [&](const json& v, const std::string& p) { d.trackingGrace = nonNegative(v, p); });
   opt(j, path, "teleportDistance",
       [&](const json& v, const std::string& p) { d.teleportDistance = positive(v, p); });
+  opt(j, path, "touchable",
+      [&](const json& v, const std::string& p) { d.touchable.mask = kinds(v, p); });
 }
 
 int boneByName(const json& j, const std::string& path) {
