@@ -316,11 +316,11 @@ void Interaction::Impl::dropDeadContacts(const World& w) {
 }
 
 // A bone that moved farther than the contact reach since the last frame could have passed
-// through a thin body between the two frames. A ray along its path (from its centre, as far as
-// its leading surface went) finds the first body in the way; the bone is then tested at the
-// pose just before its surface reached that body, so the contact begins there and its spring
-// to the bone's pose pushes the body instead of the bone passing through. One ray per fast
-// free bone; bones that moved less are tested where they are.
+// through a thin body between the two frames. The bone's shape swept along its path (at its
+// last orientation) finds the first body its surface would meet; the bone is then tested at
+// the pose just before it, so the contact begins there and its spring to the bone's pose
+// pushes the body instead of the bone passing through. One shape cast per fast free bone;
+// bones that moved less are tested where they are.
 Transform Interaction::Impl::sweptBonePose(const World& w, const Hand& h, int bone,
                                            double reach) const {
   const Transform& to = h.tracked.bones[bone];
@@ -330,18 +330,10 @@ Transform Interaction::Impl::sweptBonePose(const World& w, const Hand& h, int bo
   const double travel = path.norm();
   // Beyond the teleport distance the frame is a jump, not a motion (and it releases anyway).
   if (travel <= reach || !(travel <= def.teleportDistance)) return to;
-  const Vec3 dir = path.normalized();
-  const Shape& shape = *h.shapes.bones[bone];
-  double lead = shape.radius();  // how far the bone's surface leads its centre along dir
-  if (shape.type() == ShapeType::Capsule) {
-    lead += shape.halfHeight() * std::abs(dir.dot(from.rotate(Vec3::UnitY())));
-  } else if (shape.type() == ShapeType::Box) {
-    for (int k = 0; k < 3; ++k)
-      lead += shape.halfExtents()[k] * std::abs(dir.dot(from.rotate(Vec3::Unit(k))));
-  }
-  const std::optional<WorldRayHit> hit = w.rayCast(from.p, dir, travel + lead, def.touchable);
+  const std::optional<WorldRayHit> hit =
+      w.shapeCast(*h.shapes.bones[bone], from, path / travel, travel, def.touchable);
   if (!hit || w.bodyType(hit->body) != BodyType::Dynamic) return to;
-  const double t = std::max(0.0, (hit->hit.distance - lead - 0.5 * def.contactOffset) / travel);
+  const double t = std::max(0.0, (hit->hit.distance - 0.5 * def.contactOffset) / travel);
   if (t >= 1.0) return to;
   return Transform{from.p + t * path, from.q.slerp(t, to.q)};
 }

@@ -34,8 +34,9 @@ struct PlateRun {
 
 // A free 50 g plate (10 x 10 cm, 5 mm thick, normal along x) floating without gravity; the
 // index fingertip, axis along z, moves along +x at `speed` through where the plate is, starting
-// `phase` (0..1) of one frame's travel farther back, with the hand updated at `hz`.
-PlateRun fingerAtPlate(double speed, double hz, double phase) {
+// `phase` (0..1) of one frame's travel farther back, with the hand updated at `hz`; its axis
+// `height` above the plate's centre.
+PlateRun fingerAtPlate(double speed, double hz, double phase, double height) {
   WorldDef wd;
   wd.gravity = Vec3::Zero();
   World w(wd);
@@ -51,7 +52,7 @@ PlateRun fingerAtPlate(double speed, double hz, double phase) {
   for (int i = 0; i <= steps; ++i) {
     HandPose pose = scenarios::parkedHand(hd);
     const double x = x0 + speed * i * dt;  // the fingertip axis
-    pose.bones[kIndexTip].p = Vec3(x, 0.0, 0.0);
+    pose.bones[kIndexTip].p = Vec3(x, height, 0.0);
     pose.bones[kIndexTip].q = Quat(Eigen::AngleAxisd(kPi / 2, Vec3::UnitX()));  // +Y -> +z
     pose.tracked = true;
     ix.setHandPose(h, pose);
@@ -72,7 +73,7 @@ void expectPushed(double speed, double hz) {
   // Every phase of the frame sampling: a test that happens to land a frame on the plate
   // proves nothing.
   for (double phase : {0.0, 0.2, 0.4, 0.6, 0.8}) {
-    const PlateRun r = fingerAtPlate(speed, hz, phase);
+    const PlateRun r = fingerAtPlate(speed, hz, phase, 0.0);
     const std::string at = std::to_string(speed) + " m/s at " + std::to_string(hz) + " Hz, phase " +
                            std::to_string(phase);
     ASSERT_TRUE(r.finite) << at;
@@ -108,6 +109,21 @@ TEST(FastHand, FingerAtTwoMetresPerSecondPushesAFiveMillimetrePlateAt240Hz) {
 TEST(FastHand, FingerAtFiveMetresPerSecondPushesAFiveMillimetrePlateAt60Hz) {
   expectPushed(5.0, 60.0);
   expectPushed(5.0, 240.0);
+}
+
+// The fingertip's axis passes just above the plate's top edge, so that only the side of the
+// finger meets the plate: a ray along the axis (the sweep before shape casts) missed it, and at
+// 60 Hz the finger passed the plate untouched in every phase. Now it meets and pushes the
+// plate (which tips away, and the finger may then pass over its edge).
+TEST(FastHand, AFingerWhoseSideMeetsThePlatesEdgePushesItAt60Hz) {
+  const double radius = HandDef{}.fingers[1].radius[2];
+  for (double phase : {0.0, 0.2, 0.4, 0.6, 0.8}) {
+    const PlateRun r = fingerAtPlate(5.0, 60.0, phase, 0.05 + 0.5 * radius);
+    ASSERT_TRUE(r.finite) << phase;
+    EXPECT_TRUE(r.contactFound) << phase;
+    EXPECT_GT(r.plateSpeed, 0.5) << phase;
+    EXPECT_GT(r.plateTravel, 0.01) << phase;
+  }
 }
 
 // ---- random and adversarial tracking frames -------------------------------------------------
