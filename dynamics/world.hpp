@@ -251,6 +251,11 @@ class World {
   // The manifolds between two bodies in the last step, as the solver used them (one per
   // child pair, speculative points included), normals pointing from a to b.
   std::vector<Manifold> contactManifolds(BodyId a, BodyId b) const;
+  // The force the contacts between a and b exerted on b in the last step (N; on a the
+  // opposite): the normal and friction impulses they held at its end, over a substep's length,
+  // so the mean force of its last substep. A box at rest presses on the floor with its weight;
+  // zero where they do not touch. A sleeping pair keeps its last.
+  Vec3 contactForce(BodyId a, BodyId b) const;
   const StepStats& stats() const;
   const WorldDef& def() const;
   void setGravity(const Vec3& g);

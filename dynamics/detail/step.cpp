@@ -34,6 +34,7 @@ void World::step(double dt) {
   w.updateSleep(dt);
   w.finishStep();
   w.time += dt;
+  w.lastSubstep = dt / w.def.substeps;
   ++w.steps;
 }
 

@@ -650,6 +650,29 @@ std::vector<Manifold> World::contactManifolds(BodyId a, BodyId b) const {
   }
   return out;
 }
+Vec3 World::contactForce(BodyId a, BodyId b) const {
+  impl_->body(a, "contactForce.a");
+  impl_->body(b, "contactForce.b");
+  if (!(impl_->lastSubstep > 0.0)) return Vec3::Zero();  // no step yet
+  // The stored manifolds run from the lower slot to the higher: their impulses push that one.
+  const bool flip = a.index > b.index;
+  const uint64_t key =
+      flip ? detail::makePairKey(b.index, a.index) : detail::makePairKey(a.index, b.index);
+  Vec3 impulse = Vec3::Zero();
+  for (int run = 0; run < 3; ++run) {
+    const auto& list = impl_->contacts.run[run];
+    for (size_t i = impl_->contacts.firstOf(run, key); i < list.size() && list[i].pairKey() == key;
+         ++i) {
+      const detail::ContactManifold& c = list[i];
+      Vec3 t1, t2;  // the solver's friction directions (prepareManifold)
+      tangentBasis(c.m.normal, t1, t2);
+      for (int k = 0; k < c.m.pointCount; ++k) impulse += c.state[k].normalImpulse * c.m.normal;
+      impulse += c.friction[0] * t1 + c.friction[1] * t2;
+    }
+  }
+  return (flip ? -impulse : impulse) / impl_->lastSubstep;
+}
+
 const StepStats& World::stats() const {
   return impl_->stats;
 }

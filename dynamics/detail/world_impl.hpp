@@ -332,6 +332,7 @@ struct World::Impl {
   int aliveCount = 0;
   double time = 0.0;
   uint64_t steps = 0;
+  double lastSubstep = 0.0;  // s: the last step's substep (contactForce)
   uint32_t nextSleepGroup = 1;
 
   SweepBroadphase broadphase;

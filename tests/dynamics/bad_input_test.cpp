@@ -138,6 +138,7 @@ TEST(BadInput, UnknownAndStaleIds) {
     f.w.setCollisionFilter(temp, CollisionFilter{2, 0, 0});
   });
   expectRejected(f, "collisionFilter.id", [&] { (void)f.w.collisionFilter(temp); });
+  expectRejected(f, "contactForce.b", [&] { (void)f.w.contactForce(f.box, temp); });
   expectRejected(f, "contactManifolds.b",
                  [&] { (void)f.w.contactManifolds(f.w.bodies()[0], temp); });
   // The slot is reused with a new generation: the old id stays stale.

@@ -1026,6 +1026,66 @@ TEST(ShapeCast, FindsTheFirstBodyTheShapeWouldTouchAndSkipsSensors) {
   }
 }
 
+TEST(ContactForce, ABoxAtRestPressesOnTheFloorWithItsWeight) {
+  World w;
+  const BodyId ground = addGround(w);
+  const BodyId box = addBox(w, Vec3(0, 0.1, 0), Vec3::Constant(0.1), 2.0);
+  const BodyId away = addBox(w, Vec3(3, 0.1, 0), Vec3::Constant(0.1), 2.0);
+  EXPECT_EQ(w.contactForce(ground, box), Vec3::Zero());  // no step yet
+  for (int i = 0; i < 60; ++i) w.step(1.0 / 60.0);
+  const Vec3 f = w.contactForce(ground, box);
+  EXPECT_NEAR(f.y(), 2.0 * 9.81, 1e-3 * 2.0 * 9.81);
+  EXPECT_NEAR(std::hypot(f.x(), f.z()), 0.0, 1e-6);
+  EXPECT_EQ(w.contactForce(box, ground), -f);  // action and reaction
+  EXPECT_EQ(w.contactForce(box, away), Vec3::Zero());
+  for (int i = 0; i < 180; ++i) w.step(1.0 / 60.0);
+  ASSERT_FALSE(w.isAwake(box));
+  EXPECT_NEAR(w.contactForce(ground, box).y(), 2.0 * 9.81, 1e-3 * 2.0 * 9.81);  // asleep, still
+}
+
+namespace {
+struct InclineRun {
+  Vec3 force, normal, velocity;  // the contact force on the box, the plane's normal, its speed
+  double along() const { return force.dot(normal); }
+  Vec3 friction() const { return force - along() * normal; }
+};
+
+// A 1 kg box of 0.2 m on a plane through the origin tilted by `degrees` about z, both of
+// friction 0.6 (static) and 0.5 (dynamic), after `seconds`.
+InclineRun onIncline(double degrees, double seconds) {
+  World w;
+  const double theta = degrees * kPi / 180.0;
+  const Vec3 n(-std::sin(theta), std::cos(theta), 0.0);
+  BodyDef g;
+  g.type = BodyType::Static;
+  g.shape = Shape::plane(n, 0.0);
+  g.material.staticFriction = 0.6, g.material.dynamicFriction = 0.5;
+  const BodyId plane = w.createBody(g);
+  BodyDef d;
+  d.shape = Shape::box(Vec3::Constant(0.1));
+  d.position = 0.1 * n;
+  d.orientation = Quat(Eigen::AngleAxisd(theta, Vec3::UnitZ()));
+  d.mass = 1.0;
+  d.material = g.material;
+  const BodyId box = w.createBody(d);
+  for (int i = 0; i < static_cast<int>(seconds * 60); ++i) w.step(1.0 / 60.0);
+  return {w.contactForce(plane, box), n, w.linearVelocity(box)};
+}
+}  // namespace
+
+TEST(ContactForce, OnAnInclineTheNormalAndFrictionPartsBalanceGravityOrSlide) {
+  const double g = 9.81;
+  // 20 degrees, tan 20 = 0.36 < mu_s = 0.6: it sticks, and the contact holds its weight.
+  const InclineRun stuck = onIncline(20.0, 1.0);
+  EXPECT_LT((stuck.force - Vec3(0, g, 0)).norm(), 1e-3 * g) << stuck.force.transpose();
+  EXPECT_NEAR(stuck.along(), g * std::cos(20.0 * kPi / 180.0), 1e-3 * g);
+  // 40 degrees, tan 40 = 0.84 > 0.6: it slides, friction mu_d times the normal force, uphill.
+  const InclineRun sliding = onIncline(40.0, 0.5);
+  EXPECT_NEAR(sliding.along(), g * std::cos(40.0 * kPi / 180.0), 1e-3 * g);
+  EXPECT_NEAR(sliding.friction().norm() / sliding.along(), 0.5, 1e-3);
+  EXPECT_LT(sliding.friction().normalized().dot(sliding.velocity.normalized()), -0.999);
+}
+
 TEST(Kinematic, MovesToTargetAndPushesDynamicBodies) {
   WorldDef def;
   World w(def);
