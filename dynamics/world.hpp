@@ -215,6 +215,12 @@ class World {
   // Kinematic bodies: set the velocities that carry the body to `target` over dt.
   void moveKinematic(BodyId id, const Vec3& position, const Quat& orientation, double dt);
   void setMaterial(BodyId id, const MaterialDef& m);
+  // As BodyDef's fields of the same names; each wakes the body (allowSleep = false keeps it
+  // awake from now on).
+  void setGravityScale(BodyId id, double scale);
+  void setDamping(BodyId id, double linear, double angular);  // 1/s, >= 0
+  void setAllowSleep(BodyId id, bool allow);
+  void setUserData(BodyId id, uint64_t data);
   // From the next step on; the body and what touches or overlaps it wake, so that their pairs
   // are made or dropped under the new filter (a dropped touching pair reports its end).
   void setCollisionFilter(BodyId id, const CollisionFilter& filter);

@@ -471,6 +471,31 @@ void World::setMaterial(BodyId id, const MaterialDef& m) {
   b.material.restitution = m.restitution;
 }
 
+void World::setGravityScale(BodyId id, double scale) {
+  Body& b = impl_->body(id, "setGravityScale.id");
+  requireFinite(scale, "setGravityScale.scale");
+  b.gravityScale = scale;
+  impl_->wakeBody(id.index);
+}
+
+void World::setDamping(BodyId id, double linear, double angular) {
+  Body& b = impl_->body(id, "setDamping.id");
+  requireNonNegative(linear, "setDamping.linear");
+  requireNonNegative(angular, "setDamping.angular");
+  b.linearDamping = linear, b.angularDamping = angular;
+  impl_->wakeBody(id.index);
+}
+
+void World::setAllowSleep(BodyId id, bool allow) {
+  Body& b = impl_->body(id, "setAllowSleep.id");
+  b.allowSleep = allow;
+  impl_->wakeBody(id.index);
+}
+
+void World::setUserData(BodyId id, uint64_t data) {
+  impl_->body(id, "setUserData.id").userData = data;
+}
+
 void World::setCollisionFilter(BodyId id, const CollisionFilter& filter) {
   Body& b = impl_->body(id, "setCollisionFilter.id");
   b.filter = filter;

@@ -51,6 +51,9 @@ void expectRejected(Fixture& f, const std::string& field, const std::function<vo
 TEST(BadInput, NonFiniteValuesNameTheField) {
   Fixture f;
   expectRejected(f, "addForce.force", [&] { f.w.addForce(f.box, Vec3(kNaN, 0, 0)); });
+  expectRejected(f, "setGravityScale.scale", [&] { f.w.setGravityScale(f.box, kInf); });
+  expectRejected(f, "setDamping.angular", [&] { f.w.setDamping(f.box, 0.1, kNaN); });
+  expectRejected(f, "setDamping.linear", [&] { f.w.setDamping(f.box, -1.0, 0.0); });
   expectRejected(f, "addForceAtPosition.position",
                  [&] { f.w.addForceAtPosition(f.box, Vec3(1, 0, 0), Vec3(0, kInf, 0)); });
   expectRejected(f, "addTorque.torque", [&] { f.w.addTorque(f.box, Vec3(0, 0, kInf)); });
@@ -139,6 +142,8 @@ TEST(BadInput, UnknownAndStaleIds) {
   });
   expectRejected(f, "collisionFilter.id", [&] { (void)f.w.collisionFilter(temp); });
   expectRejected(f, "contactForce.b", [&] { (void)f.w.contactForce(f.box, temp); });
+  expectRejected(f, "setUserData.id", [&] { f.w.setUserData(temp, 1); });
+  expectRejected(f, "setAllowSleep.id", [&] { f.w.setAllowSleep(temp, false); });
   expectRejected(f, "contactManifolds.b",
                  [&] { (void)f.w.contactManifolds(f.w.bodies()[0], temp); });
   // The slot is reused with a new generation: the old id stays stale.

@@ -1086,6 +1086,36 @@ TEST(ContactForce, OnAnInclineTheNormalAndFrictionPartsBalanceGravityOrSlide) {
   EXPECT_LT(sliding.friction().normalized().dot(sliding.velocity.normalized()), -0.999);
 }
 
+TEST(Setters, GravityScaleDampingSleepAndUserDataChangeALiveBody) {
+  World w;
+  addGround(w);
+  const BodyId box = addBox(w, Vec3(0, 0.1, 0), Vec3::Constant(0.1));
+  for (int i = 0; i < 180; ++i) w.step(1.0 / 60.0);
+  ASSERT_FALSE(w.isAwake(box));
+  // Gravity reversed: it wakes and falls up, g t^2 / 2 within the substep's half step.
+  w.setGravityScale(box, -1.0);
+  EXPECT_TRUE(w.isAwake(box));
+  for (int i = 0; i < 60; ++i) w.step(1.0 / 60.0);
+  EXPECT_NEAR(w.linearVelocity(box).y(), 9.81, 1e-9);
+  // Weightless with linear damping c: each substep h scales the speed by 1 / (1 + c h).
+  w.setGravityScale(box, 0.0);
+  w.setDamping(box, 2.0, 0.0);
+  const double v0 = w.linearVelocity(box).y(), h = 1.0 / 240.0;
+  for (int i = 0; i < 60; ++i) w.step(1.0 / 60.0);
+  EXPECT_NEAR(w.linearVelocity(box).y(), v0 * std::pow(1.0 / (1.0 + 2.0 * h), 240), 1e-9);
+  // Never asleep once told so, even at rest.
+  w.setDamping(box, 0.0, 0.0);
+  w.setLinearVelocity(box, Vec3::Zero());
+  w.setAllowSleep(box, false);
+  for (int i = 0; i < 300; ++i) w.step(1.0 / 60.0);
+  EXPECT_TRUE(w.isAwake(box));
+  w.setAllowSleep(box, true);
+  for (int i = 0; i < 300; ++i) w.step(1.0 / 60.0);
+  EXPECT_FALSE(w.isAwake(box));
+  w.setUserData(box, 0xfeedu);
+  EXPECT_EQ(w.userData(box), 0xfeedu);
+}
+
 TEST(Kinematic, MovesToTargetAndPushesDynamicBodies) {
   WorldDef def;
   World w(def);
