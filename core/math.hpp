@@ -97,6 +97,16 @@ struct Aabb {
   }
   Aabb inflated(double r) const { return {min - Vec3::Constant(r), max + Vec3::Constant(r)}; }
   Aabb merged(const Aabb& b) const { return {min.cwiseMin(b.min), max.cwiseMax(b.max)}; }
+  // The box swept `distance` along the unit `dir` (an axis dir does not move stays put, also
+  // for an infinite distance).
+  Aabb sweptAlong(const Vec3& dir, double distance) const {
+    Aabb out = *this;
+    for (int k = 0; k < 3; ++k) {
+      if (dir[k] > 0.0) out.max[k] += distance * dir[k];
+      if (dir[k] < 0.0) out.min[k] += distance * dir[k];
+    }
+    return out;
+  }
   Vec3 center() const { return 0.5 * (min + max); }
   Vec3 extent() const { return max - min; }
 };

@@ -295,13 +295,7 @@ bool shapeCast(const Shape& s, const Transform& t, const Shape& moving, const Tr
   }
   // The children whose boxes the swept shape's box overlaps (in the compound's frame), nearest
   // hit first; ties go to the lower child index.
-  const Transform m = t.inverse() * tm;
-  Aabb swept = moving.bounds(m);
-  const Vec3 d = t.rotateInverse(dir);
-  for (int k = 0; k < 3; ++k) {
-    if (d[k] > 0.0) swept.max[k] += maxDistance * d[k];
-    if (d[k] < 0.0) swept.min[k] += maxDistance * d[k];
-  }
+  const Aabb swept = moving.bounds(t.inverse() * tm).sweptAlong(t.rotateInverse(dir), maxDistance);
   double best = maxDistance;
   bool found = false;
   s.tree().query(swept, [&](int32_t index) {

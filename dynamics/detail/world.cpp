@@ -530,6 +530,11 @@ bool rayHitsBox(const Aabb& b, const Vec3& o, const Vec3& d, double maxT) {
   return true;
 }
 
+// Whether a query with this filter sees the body (sensors it never does).
+bool seenBy(const Body& b, const QueryFilter& filter) {
+  return b.alive && !b.sensor && (filter.mask & b.filter.category) != 0;
+}
+
 void validateRay(const Vec3& origin, const Vec3& dir, double maxDistance, const char* o,
                  const char* d, const char* m) {
   requireFinite(origin, o);
@@ -546,7 +551,7 @@ std::optional<WorldRayHit> World::rayCast(const Vec3& origin, const Vec3& dir, d
   double bestT = maxDistance;
   for (uint32_t i = 0; i < impl_->bodies.size(); ++i) {
     const Body& b = impl_->bodies[i];
-    if (!b.alive || b.sensor || !(filter.mask & b.filter.category)) continue;
+    if (!seenBy(b, filter)) continue;
     if (!rayHitsBox(b.aabb, origin, dir, bestT)) continue;
     RayHit h;
     if (grip::rayCast(*b.shape, b.pose, origin, dir, bestT, h) && (!best || h.distance < bestT)) {
@@ -565,16 +570,12 @@ std::optional<WorldRayHit> World::shapeCast(const Shape& shape, const Transform&
   if (!shape.isConvex())
     throw Error("shapeCast.shape", "must be convex (a sphere, capsule, box or hull)");
   const Transform pose{t.p, t.q.normalized()};
-  Aabb swept = shape.bounds(pose);  // the box the shape sweeps through
-  for (int k = 0; k < 3; ++k) {
-    if (dir[k] > 0.0) swept.max[k] += maxDistance * dir[k];
-    if (dir[k] < 0.0) swept.min[k] += maxDistance * dir[k];
-  }
+  const Aabb swept = shape.bounds(pose).sweptAlong(dir, maxDistance);
   std::optional<WorldRayHit> best;
   double bestT = maxDistance;
   for (uint32_t i = 0; i < impl_->bodies.size(); ++i) {
     const Body& b = impl_->bodies[i];
-    if (!b.alive || b.sensor || !(filter.mask & b.filter.category)) continue;
+    if (!seenBy(b, filter)) continue;
     if (!b.aabb.overlaps(swept)) continue;
     RayHit h;
     if (grip::shapeCast(*b.shape, b.pose, shape, pose, dir, bestT, h) &&
@@ -616,8 +617,7 @@ void World::overlap(const Shape& shape, const Transform& t, double margin,
   std::vector<Manifold>& scratch = impl_->scratch;
   for (uint32_t i = 0; i < impl_->bodies.size(); ++i) {
     const Body& b = impl_->bodies[i];
-    if (!b.alive || b.sensor || !(filter.mask & b.filter.category) || !b.aabb.overlaps(box))
-      continue;
+    if (!seenBy(b, filter) || !b.aabb.overlaps(box)) continue;
     scratch.clear();
     collide(shape, t, *b.shape, b.pose, margin, scratch);
     for (const Manifold& m : scratch) hits.push_back(OverlapHit{impl_->idOf(i), m});
@@ -658,43 +658,48 @@ int World::bodyCount() const {
 int World::contactConstraintCount() const {
   return impl_->constraintCount;
 }
-std::vector<Manifold> World::contactManifolds(BodyId a, BodyId b) const {
-  impl_->body(a, "contactManifolds.a");
-  impl_->body(b, "contactManifolds.b");
+namespace {
+
+// Calls each(manifold) for every stored manifold between bodies a and b (one per child pair);
+// true when a is the higher slot, so that the manifolds' normals point from b to a.
+template <class Each>
+bool forPairManifolds(const detail::ContactRuns& contacts, BodyId a, BodyId b, const Each& each) {
   const bool flip = a.index > b.index;
   const uint64_t key =
       flip ? detail::makePairKey(b.index, a.index) : detail::makePairKey(a.index, b.index);
-  std::vector<Manifold> out;
   for (int run = 0; run < 3; ++run) {  // each in key order; the pair is in one of them
-    const auto& list = impl_->contacts.run[run];
-    for (size_t i = impl_->contacts.firstOf(run, key); i < list.size() && list[i].pairKey() == key;
-         ++i) {
-      Manifold& m = out.emplace_back(list[i].m);
-      if (flip) m.normal = -m.normal, std::swap(m.childA, m.childB);
-    }
+    const auto& list = contacts.run[run];
+    for (size_t i = contacts.firstOf(run, key); i < list.size() && list[i].pairKey() == key; ++i)
+      each(list[i]);
   }
+  return flip;
+}
+
+}  // namespace
+
+std::vector<Manifold> World::contactManifolds(BodyId a, BodyId b) const {
+  impl_->body(a, "contactManifolds.a");
+  impl_->body(b, "contactManifolds.b");
+  std::vector<Manifold> out;
+  const bool flip = forPairManifolds(impl_->contacts, a, b,
+                                     [&](const detail::ContactManifold& c) { out.push_back(c.m); });
+  if (flip)
+    for (Manifold& m : out) m.normal = -m.normal, std::swap(m.childA, m.childB);
   return out;
 }
+
 Vec3 World::contactForce(BodyId a, BodyId b) const {
   impl_->body(a, "contactForce.a");
   impl_->body(b, "contactForce.b");
   if (!(impl_->lastSubstep > 0.0)) return Vec3::Zero();  // no step yet
-  // The stored manifolds run from the lower slot to the higher: their impulses push that one.
-  const bool flip = a.index > b.index;
-  const uint64_t key =
-      flip ? detail::makePairKey(b.index, a.index) : detail::makePairKey(a.index, b.index);
+  // The stored impulses push the higher slot's body.
   Vec3 impulse = Vec3::Zero();
-  for (int run = 0; run < 3; ++run) {
-    const auto& list = impl_->contacts.run[run];
-    for (size_t i = impl_->contacts.firstOf(run, key); i < list.size() && list[i].pairKey() == key;
-         ++i) {
-      const detail::ContactManifold& c = list[i];
-      Vec3 t1, t2;  // the solver's friction directions (prepareManifold)
-      tangentBasis(c.m.normal, t1, t2);
-      for (int k = 0; k < c.m.pointCount; ++k) impulse += c.state[k].normalImpulse * c.m.normal;
-      impulse += c.friction[0] * t1 + c.friction[1] * t2;
-    }
-  }
+  const bool flip = forPairManifolds(impl_->contacts, a, b, [&](const detail::ContactManifold& c) {
+    Vec3 t1, t2;  // the solver's friction directions (prepareManifold)
+    tangentBasis(c.m.normal, t1, t2);
+    for (int k = 0; k < c.m.pointCount; ++k) impulse += c.state[k].normalImpulse * c.m.normal;
+    impulse += c.friction[0] * t1 + c.friction[1] * t2;
+  });
   return (flip ? -impulse : impulse) / impl_->lastSubstep;
 }
 
