@@ -62,6 +62,30 @@ struct QueryFilter {
   uint64_t mask = ~uint64_t{0};
 };
 
+struct JointTag;
+using JointId = Id<JointTag>;
+
+// How a joint holds two bodies together, at its anchor and along its axis, as they were when
+// it was made:
+//   Fixed   welds them: no relative motion.
+//   Ball    a ball and socket: the anchor stays one point of both; they turn freely about it.
+//   Hinge   a door's hinge: a ball joint that turns about the axis only.
+//   Slider  a drawer's rail: b slides along the axis, neither turns against the other.
+enum class JointType : uint8_t { Fixed, Ball, Hinge, Slider };
+
+struct JointDef {
+  JointType type = JointType::Ball;
+  BodyId a = {}, b = {};       // two bodies, at least one dynamic; a may be static or kinematic
+  Vec3 anchor = Vec3::Zero();  // world, where the bodies are when the joint is made
+  Vec3 axis = Vec3::UnitY();   // world (any length > 0): the hinge's axis, the slider's rail
+  // Limits on the hinge's angle (rad, b turning about the axis relative to a, within
+  // [-pi, pi]) or the slider's translation (m, b along the axis relative to a), both counted
+  // from the bodies' poses when the joint is made.
+  bool enableLimit = false;
+  double lower = 0.0, upper = 0.0;
+  bool collideConnected = false;  // false: the two bodies make no contacts with each other
+};
+
 struct BodyDef {
   BodyType type = BodyType::Dynamic;
   ShapePtr shape = nullptr;
@@ -115,6 +139,10 @@ struct WorldDef {
   // narrowphase and the solve run in two regions on two threads; the result is bit-identical
   // for any count (docs/performance.md).
   int workerThreads = 1;
+  // Joint stiffness and damping ratio of the soft constraint that pulls a joint's drift back
+  // (capped at a quarter of the substep rate, as the contacts' are).
+  double jointHertz = 60.0;
+  double jointDampingRatio = 2.0;
 };
 
 struct ContactEvent {
@@ -169,6 +197,20 @@ class World {
   BodyId createBody(const BodyDef& def);
   void destroyBody(BodyId id);
   bool isValid(BodyId id) const;
+
+  // Joints (docs/dynamics.md, "Joints"), solved with the contacts in every substep. Joined
+  // bodies sleep and wake together; destroying a body destroys its joints.
+  JointId createJoint(const JointDef& def);
+  void destroyJoint(JointId id);
+  bool isValid(JointId id) const;
+  int jointCount() const;
+  JointType jointType(JointId id) const;
+  // A hinge's angle (rad) or a slider's translation (m), counted from where it was made (as
+  // its limits are); ball and fixed joints have none (an error).
+  double jointPosition(JointId id) const;
+  // The force the joint exerted on b over the last step's last substep (N; on a the opposite),
+  // as contactForce: a door hanging on two hinges feels its weight in them.
+  Vec3 jointForce(JointId id) const;
 
   // Advances the world by dt seconds.
   void step(double dt);
@@ -269,7 +311,7 @@ class World {
   double time() const;
   uint64_t stepCount() const;
 
-  // Hash of every body's pose and velocities (bit exact).
+  // Hash of every body's pose and velocities and every joint's impulses (bit exact).
   uint64_t stateHash() const;
 
  private:

@@ -21,6 +21,8 @@ using detail::ContactManifold;
 using detail::kAcross;
 using detail::kNoRegion;
 using detail::kRegionBodies;
+using detail::makeSoft;
+using detail::Softness;
 using detail::SolverBody;
 using detail::SolverManifold;
 using detail::SolverRow;
@@ -36,19 +38,6 @@ constexpr int kDirectRows =
 // Manifolds a moving body has room for before the list grows: a landing pile of boxes peaks at
 // about four a body (touching and speculative), so twice that.
 constexpr size_t kManifoldsPerBody = 8;
-
-// Soft constraint coefficients: a spring of `hertz` with damping ratio `zeta`, discretised
-// implicitly for substep h (Box2D v3's b2MakeSoft).
-struct Softness {
-  double biasRate = 0.0, massScale = 1.0, impulseScale = 0.0;
-};
-Softness makeSoft(double hertz, double zeta, double h) {
-  const double omega = 2.0 * kPi * hertz;
-  const double a1 = 2.0 * zeta + h * omega;
-  const double a2 = h * omega * a1;
-  const double a3 = 1.0 / (1.0 + a2);
-  return {omega / a1, a2 * a3, a3};
-}
 
 struct SolveContext {
   double invH = 0.0, slop = 0.0, pushout = 0.0;
@@ -810,6 +799,7 @@ void World::Impl::solve(double dt) {
   const double h = dt / substeps;
 
   setUpSolverBodies();
+  prepareJoints();
   prepareContacts();
   computeLevels();
   // The shock order within each region (ground up), then across.
@@ -872,17 +862,23 @@ void World::Impl::solve(double dt) {
     if (m.rowsReady) warmStartManifold(m, solverBodies[m.a], solverBodies[m.b]);
   };
 
+  const bool withJoints = !solvedJoints.empty();
   for (int sub = 0; sub < substeps; ++sub) {
     inBothRegions([&](int r) {
       for (int k : bodiesOf(r)) {
         SolverBody& b = solverBodies[k + 1];
         // What the contacts did last substep, for this one's warm start (warmStart).
         if (sub > 0) b.heldV += b.v - b.startV, b.heldW += b.w - b.startW;
+        if (withJoints) {  // not what the joints did: they warm start themselves (joints.cpp)
+          if (sub > 0) b.heldV -= b.jointV, b.heldW -= b.jointW;
+          b.jointV.setZero(), b.jointW.setZero();
+        }
         integrateVelocity(k, h);
         warmStart(b, sub);
       }
     });
     if (sub == 0) manifoldsOf(kAcross, warmStartAt);
+    warmStartJoints();
     auto biasedPass = [&](int r) {
       manifoldsOf(r, [&](int i) {
         if (ready(i, true)) solveManifold(solverManifolds[i], solverBodies, ctx, true);
@@ -894,6 +890,7 @@ void World::Impl::solve(double dt) {
     });
     biasedPass(kAcross);
     solveDirectIslands(ctx, true);
+    solveJoints(h, true);  // (after both regions: the joints' bodies may be in either)
     // Relax passes; each island runs its own number of them (computeLevels), and its last
     // one is a shock propagation pass (Guendelman et al. 2003): from the ground up, each
     // contact moves only the body farther from the ground, so a stack's support reaches its
@@ -917,6 +914,7 @@ void World::Impl::solve(double dt) {
       relax(r);
     });
     relax(kAcross);
+    solveJoints(h, false);
     // The load pass, from the top down: a body resting on one support alone takes back the
     // reactions the shock passes held from it (the loads of the bodies above), and where that
     // support stops it again as it was, the impulses carry the load down to the ground in

@@ -25,6 +25,7 @@ void World::step(double dt) {
   if (dt == 0.0) return;
   Impl& w = *impl_;
   w.beginEvents.clear(), w.endEvents.clear(), w.sensorBegin.clear(), w.sensorEnd.clear();
+  if (w.jointAliveCount > 0) w.wakeJoinedBodies();
   // A body woke: collide again so its island sees its resting contacts (and so on, should
   // that island touch another sleeping one; each round wakes one more island, so it ends).
   while (w.collide(dt)) {
@@ -323,6 +324,10 @@ void World::Impl::narrowphase(int region, double dt) {
     const Body &A = bodies[ia], &B = bodies[ib];
     if (!A.isDynamic() && !B.isDynamic() && !A.sensor && !B.sensor) continue;
     if (!shouldCollide(A.filter, B.filter)) continue;
+    if (!jointPairs.empty() &&
+        std::binary_search(jointPairs.begin(), jointPairs.end(),
+                           detail::makePairKey(std::min(ia, ib), std::max(ia, ib))))
+      continue;  // joined, without contacts between them
     if (A.sensor || B.sensor) {
       if (A.sensor && B.sensor) continue;
       out.scratch.clear();
@@ -545,6 +550,11 @@ void World::Impl::updateSleep(double dt) {
       const uint32_t ra = findRoot(parent, a), rb = findRoot(parent, b);
       if (ra != rb) parent[std::max(ra, rb)] = std::min(ra, rb);
     }
+  }
+  for (const detail::Joint& j : joints) {  // joined bodies sleep and wake together
+    if (!j.alive || !awakeDynamic(j.a) || !awakeDynamic(j.b)) continue;
+    const uint32_t ra = findRoot(parent, j.a), rb = findRoot(parent, j.b);
+    if (ra != rb) parent[std::max(ra, rb)] = std::min(ra, rb);
   }
   islandSleepTime.assign(n, 1e300);
   for (size_t k = 0; k < awakeBodies.size(); ++k) {

@@ -39,6 +39,8 @@ void validateWorldDef(const WorldDef& d) {
   requirePositive(d.maxAngularSpeed, "WorldDef.maxAngularSpeed");
   if (d.workerThreads < 1 || d.workerThreads > 64)
     throw Error("WorldDef.workerThreads", "must be in 1..64");
+  requirePositive(d.jointHertz, "WorldDef.jointHertz");
+  requireNonNegative(d.jointDampingRatio, "WorldDef.jointDampingRatio");
 }
 
 void validateMaterial(const MaterialDef& m, const char* staticF, const char* dynamicF,
@@ -202,6 +204,7 @@ BodyId World::createBody(const BodyDef& d) {
 
 void World::destroyBody(BodyId id) {
   Body& b = impl_->body(id, "destroyBody.id");
+  impl_->destroyJointsOf(id.index);
   // Wake whatever rested on it, then drop its contacts.
   impl_->contacts.forEach([&](const detail::ContactManifold& c) {
     if (c.bodyA == id.index) impl_->wakeBody(c.bodyB);
@@ -733,6 +736,13 @@ uint64_t World::stateHash() const {
     h.add(b.v);
     h.add(b.w);
     h.add(uint64_t(b.awake));
+  }
+  for (uint32_t i = 0; i < impl_->joints.size(); ++i) {
+    const detail::Joint& j = impl_->joints[i];
+    if (!j.alive) continue;
+    h.add(uint64_t(i));
+    for (double x : j.impulse) h.add(x);
+    h.add(j.lowerImpulse), h.add(j.upperImpulse);
   }
   return h.value();
 }

@@ -75,6 +75,19 @@ struct Body {
   }
 };
 
+// Soft constraint coefficients: a spring of `hertz` with damping ratio `zeta`, discretised
+// implicitly for substep h (Box2D v3's b2MakeSoft).
+struct Softness {
+  double biasRate = 0.0, massScale = 1.0, impulseScale = 0.0;
+};
+inline Softness makeSoft(double hertz, double zeta, double h) {
+  const double omega = 2.0 * kPi * hertz;
+  const double a1 = 2.0 * zeta + h * omega;
+  const double a2 = h * omega * a1;
+  const double a3 = 1.0 / (1.0 + a2);
+  return {omega / a1, a2 * a3, a3};
+}
+
 // How far a body may move this step before any contact (collide), per body slot: apart from
 // the Body, whose cache lines stay with the thread that solves it.
 struct BodyMotion {
@@ -166,6 +179,9 @@ struct alignas(64) SolverBody {
   // substep's start, and the reactions a shock pass held back from this body.
   Vec3 startV = Vec3::Zero(), startW = Vec3::Zero();
   Vec3 heldV = Vec3::Zero(), heldW = Vec3::Zero();
+  // What the joints changed this substep: left out of the held change, as a warm start at last
+  // substep's arms would spin a fast-turning body in ways no joint row then takes back.
+  Vec3 jointV = Vec3::Zero(), jointW = Vec3::Zero();
 };
 
 // One constraint row, prepared so that solving it costs a few dot products:
@@ -263,6 +279,23 @@ struct LoadStep {
   bool sliding = false;
   Vec3 v = Vec3::Zero(), w = Vec3::Zero(), heldV = Vec3::Zero(), heldW = Vec3::Zero();
   Vec3 lowerHeldV = Vec3::Zero(), lowerHeldW = Vec3::Zero();
+};
+
+// A joint (World::createJoint): what it holds, in the bodies' frames, and the impulses it
+// carries from substep to substep (a substep's accumulated impulses, as the contacts').
+struct Joint {
+  uint32_t generation = 0;
+  bool alive = false;
+  JointType type = JointType::Ball;
+  uint32_t a = 0, b = 0;                              // body slots
+  Vec3 localA = Vec3::Zero(), localB = Vec3::Zero();  // the anchor from each centre of mass
+  Vec3 axisA = Vec3::UnitY(), axisB = Vec3::UnitY();  // the unit axis in each body's frame
+  Quat reference = Quat::Identity();                  // qA^-1 qB when made
+  bool enableLimit = false, collideConnected = false;
+  double lower = 0.0, upper = 0.0;
+  double impulse[6] = {};                         // the locked rows (jointRows' order)
+  double lowerImpulse = 0.0, upperImpulse = 0.0;  // the limit's two sides
+  int sa = 0, sb = 0;                             // solver indices this step (0: immovable)
 };
 
 struct SensorPair;
@@ -404,6 +437,14 @@ struct World::Impl {
   std::vector<char> solvedDirectly;
   std::vector<std::pair<int, int>> directScratch;
 
+  // Joints in slots, as bodies; the pairs of bodies whose joints switch their contacts off
+  // (sorted pair keys, for the narrowphase); the joints the solve works on this step.
+  std::vector<detail::Joint> joints;
+  std::vector<uint32_t> freeJointSlots;
+  int jointAliveCount = 0;
+  std::vector<uint64_t> jointPairs;
+  std::vector<uint32_t> solvedJoints;
+
   std::vector<ContactEvent> beginEvents, endEvents;
   std::vector<SensorEvent> sensorBegin, sensorEnd;
   StepStats stats;
@@ -444,6 +485,15 @@ struct World::Impl {
   void applyRestitution(detail::SolverManifold& m);
   void storeImpulses(const detail::SolverManifold& m);
   void updateSleep(double dt);
+  // Joints (joints.cpp): a sleeping body joined to a moving one wakes before the step; the
+  // solve's share, serial after both regions' work.
+  void wakeJoinedBodies();
+  void prepareJoints();
+  void warmStartJoints();
+  void solveJoints(double h, bool useBias);
+  void indexJointPairs();
+  void releaseJoint(uint32_t slot);
+  void destroyJointsOf(uint32_t body);
   void finishStep();
 
   detail::Body& body(BodyId id, const char* field);

@@ -1,0 +1,403 @@
+// Joints: fixed, ball, hinge and slider, with limits. Each joint is a few constraint rows
+// between two bodies, solved in the soft step as the contacts are (Box2D v3): in each substep's
+// biased pass softly toward zero drift (WorldDef::jointHertz), in its relax pass without bias,
+// warm started with the impulses of the substep before. The locked rows (up to six) are solved
+// together as one block, exactly, so a ball joint's three directions or a weld's six do not
+// fight each other as row-by-row passes would; a limit is one more row that only pushes. The
+// rows are built each time from the bodies' current poses.
+#include <algorithm>
+#include <cmath>
+
+#include <Eigen/Cholesky>
+
+#include "dynamics/detail/world_impl.hpp"
+
+namespace grip {
+
+using detail::Body;
+using detail::Joint;
+using detail::SolverBody;
+
+namespace {
+
+// velocity = lin.(vB - vA) + angB.wB - angA.wA; `error` is its position (drift).
+struct JointRow {
+  Vec3 lin = Vec3::Zero(), angA = Vec3::Zero(), angB = Vec3::Zero();
+  double error = 0.0;
+};
+
+// A joint's rows for the bodies at (comA, qA) and (comB, qB).
+struct JointRows {
+  int count = 0;
+  JointRow locked[6];
+  JointRow limit;         // along +axis: its velocity opens the hinge or the slider
+  double position = 0.0;  // the hinge's angle or the slider's translation
+};
+
+// The rotation vector of q (axis times angle, the angle in [0, pi]).
+Vec3 rotationVector(Quat q) {
+  if (q.w() < 0.0) q.coeffs() = -q.coeffs();
+  const double s = q.vec().norm();
+  if (!(s > 0.0)) return Vec3::Zero();
+  return (2.0 * std::atan2(s, q.w()) / s) * q.vec();
+}
+
+JointRows jointRows(const Joint& j, const Vec3& comA, const Quat& qA, const Vec3& comB,
+                    const Quat& qB) {
+  JointRows out;
+  const Vec3 rA = qA * j.localA, rB = qB * j.localB;
+  const Vec3 d = (comB + rB) - (comA + rA);  // anchor on b from anchor on a
+  const Vec3 axis = qA * j.axisA;
+  auto add = [&](const Vec3& lin, const Vec3& angA, const Vec3& angB, double error) {
+    out.locked[out.count++] = {lin, angA, angB, error};
+  };
+  auto lockPoint = [&] {
+    for (int k = 0; k < 3; ++k) {
+      const Vec3 e = Vec3::Unit(k);
+      add(e, rA.cross(e), rB.cross(e), d[k]);
+    }
+  };
+  // No turning: the rotation of b from where a carries its reference pose.
+  auto lockTurning = [&] {
+    const Vec3 turn = rotationVector(qB * (qA * j.reference).conjugate());
+    for (int k = 0; k < 3; ++k) add(Vec3::Zero(), Vec3::Unit(k), Vec3::Unit(k), turn[k]);
+  };
+  Vec3 t1, t2;
+  tangentBasis(axis, t1, t2);
+  switch (j.type) {
+    case JointType::Fixed:
+      lockPoint(), lockTurning();
+      break;
+    case JointType::Ball:
+      lockPoint();
+      break;
+    case JointType::Hinge: {
+      lockPoint();
+      // The two axes stay parallel: a x b is the turn off the axis (to first order).
+      const Vec3 off = axis.cross(qB * j.axisB);
+      add(Vec3::Zero(), t1, t1, t1.dot(off));
+      add(Vec3::Zero(), t2, t2, t2.dot(off));
+      // The angle: the turn of b relative to a since the joint was made, about a's axis.
+      Quat turn = qA.conjugate() * qB * j.reference.conjugate();
+      if (turn.w() < 0.0) turn.coeffs() = -turn.coeffs();
+      out.position = 2.0 * std::atan2(turn.vec().dot(j.axisA), turn.w());
+      out.limit = {Vec3::Zero(), axis, axis, 0.0};
+      break;
+    }
+    case JointType::Slider: {
+      // Off the rail: a's axis turns with a, so its lever on a reaches to b's anchor.
+      add(t1, (rA + d).cross(t1), rB.cross(t1), t1.dot(d));
+      add(t2, (rA + d).cross(t2), rB.cross(t2), t2.dot(d));
+      lockTurning();
+      out.position = axis.dot(d);
+      out.limit = {axis, (rA + d).cross(axis), rB.cross(axis), 0.0};
+      break;
+    }
+  }
+  return out;
+}
+
+// The two bodies as the solve has them, with their inverse inertias at their current
+// orientations: the solver body's is the step's start's, and a thin link that turns a third of
+// a radian in a step, its tiny inertia about its length pointing elsewhere by then, gained
+// energy from the stale one until a chain whipped about at 30 m/s.
+struct JointBodies {
+  SolverBody& A;
+  SolverBody& B;
+  Mat3 invIA, invIB;
+  double velocity(const JointRow& r) const {
+    return r.lin.dot(B.v - A.v) + r.angB.dot(B.w) - r.angA.dot(A.w);
+  }
+  double mass(const JointRow& r, const JointRow& s) const {
+    return (A.invMass + B.invMass) * r.lin.dot(s.lin) + r.angA.dot(invIA * s.angA) +
+           r.angB.dot(invIB * s.angB);
+  }
+  void apply(const JointRow& r, double impulse) const {
+    const Vec3 dvA = (A.invMass * impulse) * r.lin, dwA = invIA * (impulse * r.angA);
+    const Vec3 dvB = (B.invMass * impulse) * r.lin, dwB = invIB * (impulse * r.angB);
+    A.v -= dvA, A.w -= dwA, A.jointV -= dvA, A.jointW -= dwA;
+    B.v += dvB, B.w += dwB, B.jointV += dvB, B.jointW += dwB;
+  }
+};
+
+// The limit's row for one side: lower (+1) keeps position >= lower, upper (-1) position <= upper.
+JointRow limitSide(const JointRows& rows, double bound, double side) {
+  JointRow r = rows.limit;
+  r.lin *= side, r.angA *= side, r.angB *= side;
+  r.error = side * (rows.position - bound);
+  return r;
+}
+
+}  // namespace
+
+// ---- World::Impl: the step's share ---------------------------------------------------------
+
+// A sleeping body joined to one that moves wakes before the step (its island with it): a
+// kinematic arm that starts to move carries what hangs from it. Bodies joined to each other
+// fall asleep together (updateSleep), so a dynamic partner is never found asleep otherwise.
+void World::Impl::wakeJoinedBodies() {
+  auto moving = [](const Body& x) {
+    return x.awake &&
+           (x.isDynamic() || (x.type == BodyType::Kinematic && !(x.v.isZero() && x.w.isZero())));
+  };
+  for (const Joint& j : joints) {
+    if (!j.alive) continue;
+    if (moving(bodies[j.a]) && !bodies[j.b].awake) wakeBody(j.b);
+    if (moving(bodies[j.b]) && !bodies[j.a].awake) wakeBody(j.a);
+  }
+}
+
+// The joints with a body the solve moves, in slot order.
+void World::Impl::prepareJoints() {
+  solvedJoints.clear();
+  for (uint32_t i = 0; i < joints.size(); ++i) {
+    Joint& j = joints[i];
+    if (!j.alive) continue;
+    j.sa = solverIndexOf[j.a], j.sb = solverIndexOf[j.b];
+    if (j.sa == 0 && j.sb == 0) continue;
+    solvedJoints.push_back(i);
+  }
+}
+
+namespace {
+// Where the solve has a body now: its pose at the step's start moved by the solver body.
+struct Pose {
+  Vec3 com;
+  Quat q;
+  Pose(const Body& b, const SolverBody& s) : com(b.com + s.dp), q(s.dq * b.pose.q) {}
+};
+Mat3 inverseInertia(const Body& b, const SolverBody& s, const Quat& q) {
+  if (s.invMass == 0.0) return Mat3::Zero();  // static, kinematic or asleep: immovable
+  const Mat3 R = q.toRotationMatrix();
+  return R * b.invInertiaLocal * R.transpose();
+}
+
+// The joint's bodies and rows where the solve has them now.
+std::pair<JointBodies, JointRows> jointNow(const Joint& j, const std::vector<Body>& bodies,
+                                           std::vector<SolverBody>& solverBodies) {
+  SolverBody& A = solverBodies[static_cast<size_t>(j.sa)];
+  SolverBody& B = solverBodies[static_cast<size_t>(j.sb)];
+  const Body &a = bodies[j.a], &b = bodies[j.b];
+  const Pose pa(a, A), pb(b, B);
+  return {JointBodies{A, B, inverseInertia(a, A, pa.q), inverseInertia(b, B, pb.q)},
+          jointRows(j, pa.com, pa.q, pb.com, pb.q)};
+}
+}  // namespace
+
+// Each substep starts with the impulses the joints ended the last one with (the last step's
+// for the first), applied at the arms the bodies have now (Box2D's warm start; the contacts'
+// comes from each body's held velocity change instead: warmStart).
+void World::Impl::warmStartJoints() {
+  for (uint32_t i : solvedJoints) {
+    Joint& j = joints[i];
+    const auto [jb, rows] = jointNow(j, bodies, solverBodies);
+    for (int k = 0; k < rows.count; ++k) jb.apply(rows.locked[k], j.impulse[k]);
+    if (j.enableLimit) {
+      jb.apply(limitSide(rows, j.lower, 1.0), j.lowerImpulse);
+      jb.apply(limitSide(rows, j.upper, -1.0), j.upperImpulse);
+    }
+  }
+}
+
+void World::Impl::solveJoints(double h, bool useBias) {
+  if (solvedJoints.empty()) return;
+  const double hertz = std::min(def.jointHertz, 0.25 / h);
+  const detail::Softness soft = detail::makeSoft(hertz, def.jointDampingRatio, h);
+  for (uint32_t i : solvedJoints) {
+    Joint& j = joints[i];
+    const auto [jb, rows] = jointNow(j, bodies, solverBodies);
+    // The locked rows, and the nearer side of a limit, as one block: K impulse = -(velocity +
+    // bias), soft as the contacts. A limit's torque alone would turn the door about its centre
+    // of mass and the hinge's rows turn it back, so solved apart they stop it inexactly (a door
+    // bounced off its stop at an eighth of its speed); in the block it stops dead.
+    const int n = rows.count;
+    JointRow all[7];
+    double* accumulated[7];
+    double bias[7], massScale[7], impulseScale[7];
+    for (int r = 0; r < n; ++r) {
+      all[r] = rows.locked[r], accumulated[r] = &j.impulse[r];
+      bias[r] = useBias ? soft.biasRate * all[r].error : 0.0;
+      massScale[r] = useBias ? soft.massScale : 1.0;
+      impulseScale[r] = useBias ? soft.impulseScale : 0.0;
+    }
+    int m = n;
+    if (j.enableLimit) {
+      // One side at a time: the other lets go of what it held.
+      const bool lowerSide = rows.position - j.lower < j.upper - rows.position;
+      double& other = lowerSide ? j.upperImpulse : j.lowerImpulse;
+      const JointRow side =
+          lowerSide ? limitSide(rows, j.lower, 1.0) : limitSide(rows, j.upper, -1.0);
+      jb.apply(side, other);  // (the other side's row is this one's, negated)
+      other = 0.0;
+      all[m] = side, accumulated[m] = lowerSide ? &j.lowerImpulse : &j.upperImpulse;
+      // Open, it lets the bodies close the gap within the substep and no more (speculative, as
+      // Box2D's); once passed, it is soft.
+      bias[m] = 0.0, massScale[m] = 1.0, impulseScale[m] = 0.0;
+      if (side.error > 0.0)
+        bias[m] = side.error / h;
+      else if (useBias)
+        bias[m] = soft.biasRate * side.error, massScale[m] = soft.massScale,
+        impulseScale[m] = soft.impulseScale;
+      ++m;
+    }
+    using Mat7 = Eigen::Matrix<double, 7, 7>;
+    using Vec7 = Eigen::Matrix<double, 7, 1>;
+    Mat7 K = Mat7::Identity();
+    Vec7 rhs = Vec7::Zero();
+    for (int r = 0; r < m; ++r) {
+      for (int c = 0; c <= r; ++c) K(r, c) = K(c, r) = jb.mass(all[r], all[c]);
+      rhs[r] = jb.velocity(all[r]) + bias[r];
+    }
+    Vec7 solved = K.ldlt().solve(rhs);
+    double impulse[7];
+    for (int r = 0; r < m; ++r)
+      impulse[r] = -massScale[r] * solved[r] - impulseScale[r] * *accumulated[r];
+    if (m > n && *accumulated[n] + impulse[n] < 0.0) {
+      // The limit would pull: it lets go, and the locked rows are solved with that.
+      impulse[n] = -*accumulated[n];
+      for (int r = 0; r < n; ++r) rhs[r] += K(r, n) * impulse[n];
+      K.row(n).setZero(), K.col(n).setZero(), K(n, n) = 1.0, rhs[n] = 0.0;
+      solved = K.ldlt().solve(rhs);
+      for (int r = 0; r < n; ++r)
+        impulse[r] = -massScale[r] * solved[r] - impulseScale[r] * *accumulated[r];
+    }
+    for (int r = 0; r < m; ++r) {
+      *accumulated[r] += impulse[r];
+      jb.apply(all[r], impulse[r]);
+    }
+  }
+}
+
+// The pairs of joined bodies that make no contacts, sorted for the narrowphase's lookup.
+void World::Impl::indexJointPairs() {
+  jointPairs.clear();
+  for (const Joint& j : joints)
+    if (j.alive && !j.collideConnected)
+      jointPairs.push_back(detail::makePairKey(std::min(j.a, j.b), std::max(j.a, j.b)));
+  std::sort(jointPairs.begin(), jointPairs.end());
+}
+
+// The joint in `slot` goes (its bodies wake: each is free of the other from now on); the slot
+// keeps its generation for the next joint.
+void World::Impl::releaseJoint(uint32_t slot) {
+  Joint& j = joints[slot];
+  wakeBody(j.a), wakeBody(j.b);
+  const uint32_t generation = j.generation;
+  j = Joint{};
+  j.generation = generation;
+  freeJointSlots.push_back(slot);
+  --jointAliveCount;
+  indexJointPairs();
+}
+
+void World::Impl::destroyJointsOf(uint32_t body) {
+  for (uint32_t i = 0; i < joints.size(); ++i)
+    if (joints[i].alive && (joints[i].a == body || joints[i].b == body)) releaseJoint(i);
+}
+
+// ---- World: the public calls ---------------------------------------------------------------
+
+namespace {
+const Joint& jointOf(const std::vector<Joint>& joints, JointId id, const char* field) {
+  if (id.isNull() || id.index >= joints.size() || !joints[id.index].alive ||
+      joints[id.index].generation != id.generation)
+    throw Error(field, id.isNull() ? "is the null joint id" : "is not a live joint");
+  return joints[id.index];
+}
+}  // namespace
+
+JointId World::createJoint(const JointDef& d) {
+  Impl& w = *impl_;
+  const Body& A = w.body(d.a, "JointDef.a");
+  const Body& B = w.body(d.b, "JointDef.b");
+  if (d.a == d.b) throw Error("JointDef.b", "must be another body than a");
+  if (!A.isDynamic() && !B.isDynamic()) throw Error("JointDef", "needs a dynamic body");
+  requireFinite(d.anchor, "JointDef.anchor");
+  requireFinite(d.axis, "JointDef.axis");
+  const double length = d.axis.norm();
+  if (!(length > 1e-12) || !std::isfinite(length))
+    throw Error("JointDef.axis", "must have a length above zero");
+  if (d.enableLimit) {
+    requireFinite(d.lower, "JointDef.lower");
+    requireFinite(d.upper, "JointDef.upper");
+    if (d.type != JointType::Hinge && d.type != JointType::Slider)
+      throw Error("JointDef.enableLimit", "only hinges and sliders have limits");
+    if (d.lower > d.upper) throw Error("JointDef.lower", "must not exceed upper");
+    if (d.type == JointType::Hinge && (d.lower < -kPi || d.upper > kPi))
+      throw Error(d.lower < -kPi ? "JointDef.lower" : "JointDef.upper", "must be within [-pi, pi]");
+  }
+
+  Joint j;
+  j.alive = true;
+  j.type = d.type;
+  j.a = d.a.index, j.b = d.b.index;
+  const Vec3 axis = d.axis / length;
+  j.localA = A.pose.q.conjugate() * (d.anchor - A.com);
+  j.localB = B.pose.q.conjugate() * (d.anchor - B.com);
+  j.axisA = A.pose.q.conjugate() * axis;
+  j.axisB = B.pose.q.conjugate() * axis;
+  j.reference = A.pose.q.conjugate() * B.pose.q;
+  j.enableLimit = d.enableLimit, j.collideConnected = d.collideConnected;
+  j.lower = d.lower, j.upper = d.upper;
+
+  uint32_t slot;
+  if (!w.freeJointSlots.empty()) {
+    slot = w.freeJointSlots.back();
+    w.freeJointSlots.pop_back();
+    j.generation = w.joints[slot].generation + 1;
+    if (j.generation == 0) j.generation = 1;
+    w.joints[slot] = j;
+  } else {
+    slot = static_cast<uint32_t>(w.joints.size());
+    j.generation = 1;
+    w.joints.push_back(j);
+  }
+  ++w.jointAliveCount;
+  w.indexJointPairs();
+  // Both wake: their contacts with each other go (or stay) from the next step, and each starts
+  // to feel the other.
+  w.wakeBody(j.a), w.wakeBody(j.b);
+  return JointId{slot, w.joints[slot].generation};
+}
+
+void World::destroyJoint(JointId id) {
+  jointOf(impl_->joints, id, "destroyJoint.id");
+  impl_->releaseJoint(id.index);
+}
+
+bool World::isValid(JointId id) const {
+  return !id.isNull() && id.index < impl_->joints.size() && impl_->joints[id.index].alive &&
+         impl_->joints[id.index].generation == id.generation;
+}
+
+int World::jointCount() const {
+  return impl_->jointAliveCount;
+}
+
+JointType World::jointType(JointId id) const {
+  return jointOf(impl_->joints, id, "jointType.id").type;
+}
+
+double World::jointPosition(JointId id) const {
+  const Joint& j = jointOf(impl_->joints, id, "jointPosition.id");
+  if (j.type != JointType::Hinge && j.type != JointType::Slider)
+    throw Error("jointPosition.id", "only hinges and sliders have a position");
+  const Body &A = impl_->bodies[j.a], &B = impl_->bodies[j.b];
+  return jointRows(j, A.com, A.pose.q, B.com, B.pose.q).position;
+}
+
+Vec3 World::jointForce(JointId id) const {
+  const Joint& j = jointOf(impl_->joints, id, "jointForce.id");
+  if (impl_->lastSubstep == 0.0) return Vec3::Zero();
+  const Body &A = impl_->bodies[j.a], &B = impl_->bodies[j.b];
+  const JointRows rows = jointRows(j, A.com, A.pose.q, B.com, B.pose.q);
+  Vec3 impulse = Vec3::Zero();
+  for (int k = 0; k < rows.count; ++k) impulse += j.impulse[k] * rows.locked[k].lin;
+  if (j.enableLimit) {
+    impulse += j.lowerImpulse * limitSide(rows, j.lower, 1.0).lin;
+    impulse += j.upperImpulse * limitSide(rows, j.upper, -1.0).lin;
+  }
+  return impulse / impl_->lastSubstep;
+}
+
+}  // namespace grip
