@@ -67,6 +67,26 @@ void BM_World_Stack(benchmark::State& state) {
 }
 BENCHMARK(BM_World_Stack)->Arg(10)->Arg(20)->Unit(benchmark::kMicrosecond);
 
+// A chain of N thin links (ball joints, no contacts between them) swinging from a fixed point,
+// and, for the joints' own cost, the same links without joints (falling freely).
+void chain(benchmark::State& state, bool joined) {
+  WorldDef def;
+  def.enableSleep = false;
+  World w(def);
+  scenes::addChain(w, static_cast<int>(state.range(0)), Vec3(0.0, 50.0, 0.0), 0.1, 0.1, joined);
+  for (int i = 0; i < 30; ++i) w.step(1.0 / 60.0);
+  for (auto _ : state) w.step(1.0 / 60.0);
+  state.counters["joints"] = w.jointCount();
+}
+void BM_World_Chain(benchmark::State& state) {
+  chain(state, true);
+}
+BENCHMARK(BM_World_Chain)->Arg(10)->Arg(100)->Unit(benchmark::kMicrosecond);
+void BM_World_ChainLinksUnjoined(benchmark::State& state) {
+  chain(state, false);
+}
+BENCHMARK(BM_World_ChainLinksUnjoined)->Arg(10)->Arg(100)->Unit(benchmark::kMicrosecond);
+
 // Dropping a pile: 3 s from release (falling, impacts, settling); ms_per_step is the mean.
 void BM_World_PileDrop(benchmark::State& state) {
   const int steps = 180;

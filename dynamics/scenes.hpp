@@ -23,4 +23,12 @@ std::vector<BodyId> addBoxPile(World& w, int count);
 // layer order, each layer from -z (or -x) to +z (or +x).
 std::vector<BodyId> addJengaTower(World& w, int layers);
 
+// A chain of `links` thin links (capsules of radius 2 cm, 10 cm between their joints, lying
+// along +x) from a static anchor at `top`, each joined to the one before by a ball joint at
+// their shared end; the last link weighs `endMass`, the others `linkMass`. Nothing in it
+// collides with anything (collision group -1: the joints alone). Returns the links, the first
+// one at the anchor. Link k's joints sit at (0, +-0.05, 0) in its frame (+ toward the anchor).
+std::vector<BodyId> addChain(World& w, int links, const Vec3& top, double linkMass = 0.1,
+                             double endMass = 0.1, bool joined = true);
+
 }  // namespace grip::scenes

@@ -68,6 +68,13 @@ struct HandSpec {
   std::vector<std::pair<double, HandPose>> tracked;
 };
 
+// A joint between two of the scene's bodies (indices into Scene::bodies); def's ids are set
+// when the world is built.
+struct JointSpec {
+  JointDef def;
+  int a = 0, b = 0;
+};
+
 enum class CheckKind : uint8_t { Position, Displacement, Speed, LowestHeight, HandContacts, Angle };
 
 // An expected outcome, evaluated at the end of a run (LowestHeight: over the whole run).
@@ -91,6 +98,7 @@ struct Scene {
   uint64_t seed = 1;
   InteractionDef interaction;
   std::vector<BodySpec> bodies;
+  std::vector<JointSpec> joints;
   std::vector<HandSpec> hands;
   std::vector<CheckSpec> checks;
   nlohmann::json source;  // the document it was parsed from (after overrides)

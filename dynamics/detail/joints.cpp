@@ -8,8 +8,6 @@
 #include <algorithm>
 #include <cmath>
 
-#include <Eigen/Cholesky>
-
 #include "dynamics/detail/world_impl.hpp"
 
 namespace grip {
@@ -128,6 +126,30 @@ JointRow limitSide(const JointRows& rows, double bound, double side) {
   return r;
 }
 
+// x = K^-1 b for the leading m x m block of a symmetric positive definite K (Cholesky: the
+// block is at most 7 rows, and a ball joint's 3; a fixed-size 7 x 7 solve was a third of a
+// chain's step).
+void solveSymmetric(const double (&K)[7][7], const double (&b)[7], int m, double (&x)[7]) {
+  double L[7][7];
+  for (int i = 0; i < m; ++i) {
+    for (int j = 0; j <= i; ++j) {
+      double sum = K[i][j];
+      for (int k = 0; k < j; ++k) sum -= L[i][k] * L[j][k];
+      L[i][j] = i == j ? std::sqrt(sum) : sum / L[j][j];
+    }
+  }
+  for (int i = 0; i < m; ++i) {  // L y = b
+    double sum = b[i];
+    for (int k = 0; k < i; ++k) sum -= L[i][k] * x[k];
+    x[i] = sum / L[i][i];
+  }
+  for (int i = m - 1; i >= 0; --i) {  // L^T x = y
+    double sum = x[i];
+    for (int k = i + 1; k < m; ++k) sum -= L[k][i] * x[k];
+    x[i] = sum / L[i][i];
+  }
+}
+
 }  // namespace
 
 // ---- World::Impl: the step's share ---------------------------------------------------------
@@ -147,14 +169,17 @@ void World::Impl::wakeJoinedBodies() {
   }
 }
 
-// The joints with a body the solve moves, in slot order.
+// The joints with a dynamic body the solve moves, in slot order.
 void World::Impl::prepareJoints() {
   solvedJoints.clear();
   for (uint32_t i = 0; i < joints.size(); ++i) {
     Joint& j = joints[i];
     if (!j.alive) continue;
     j.sa = solverIndexOf[j.a], j.sb = solverIndexOf[j.b];
-    if (j.sa == 0 && j.sb == 0) continue;
+    // Neither moves (static, asleep or kinematic): nothing to solve, and K would be singular.
+    if (solverBodies[static_cast<size_t>(j.sa)].invMass == 0.0 &&
+        solverBodies[static_cast<size_t>(j.sb)].invMass == 0.0)
+      continue;
     solvedJoints.push_back(i);
   }
 }
@@ -240,24 +265,19 @@ void World::Impl::solveJoints(double h, bool useBias) {
         impulseScale[m] = soft.impulseScale;
       ++m;
     }
-    using Mat7 = Eigen::Matrix<double, 7, 7>;
-    using Vec7 = Eigen::Matrix<double, 7, 1>;
-    Mat7 K = Mat7::Identity();
-    Vec7 rhs = Vec7::Zero();
+    double K[7][7], rhs[7], solved[7], impulse[7];
     for (int r = 0; r < m; ++r) {
-      for (int c = 0; c <= r; ++c) K(r, c) = K(c, r) = jb.mass(all[r], all[c]);
+      for (int c = 0; c <= r; ++c) K[r][c] = K[c][r] = jb.mass(all[r], all[c]);
       rhs[r] = jb.velocity(all[r]) + bias[r];
     }
-    Vec7 solved = K.ldlt().solve(rhs);
-    double impulse[7];
+    solveSymmetric(K, rhs, m, solved);
     for (int r = 0; r < m; ++r)
       impulse[r] = -massScale[r] * solved[r] - impulseScale[r] * *accumulated[r];
     if (m > n && *accumulated[n] + impulse[n] < 0.0) {
       // The limit would pull: it lets go, and the locked rows are solved with that.
       impulse[n] = -*accumulated[n];
-      for (int r = 0; r < n; ++r) rhs[r] += K(r, n) * impulse[n];
-      K.row(n).setZero(), K.col(n).setZero(), K(n, n) = 1.0, rhs[n] = 0.0;
-      solved = K.ldlt().solve(rhs);
+      for (int r = 0; r < n; ++r) rhs[r] += K[r][n] * impulse[n];
+      solveSymmetric(K, rhs, n, solved);
       for (int r = 0; r < n; ++r)
         impulse[r] = -massScale[r] * solved[r] - impulseScale[r] * *accumulated[r];
     }

@@ -64,4 +64,37 @@ std::vector<BodyId> addJengaTower(World& w, int layers) {
   return ids;
 }
 
+std::vector<BodyId> addChain(World& w, int links, const Vec3& top, double linkMass, double endMass,
+                             bool joined) {
+  CollisionFilter apart;
+  apart.group = -1;
+  BodyDef anchor;
+  anchor.type = BodyType::Static;
+  anchor.shape = Shape::box(Vec3::Constant(0.05));
+  anchor.position = top;
+  anchor.filter = apart;
+  BodyId above = w.createBody(anchor);
+  const ShapePtr rod = Shape::capsule(0.02, 0.05);  // along its y, turned to lie along x
+  std::vector<BodyId> ids;
+  for (int k = 0; k < links; ++k) {
+    BodyDef d;
+    d.shape = rod;
+    d.position = top + Vec3(0.1 * (k + 1), 0.0, 0.0);
+    d.orientation = Quat(Eigen::AngleAxisd(0.5 * kPi, Vec3::UnitZ()));
+    d.mass = k == links - 1 ? endMass : linkMass;
+    d.filter = apart;
+    const BodyId link = w.createBody(d);
+    if (joined) {
+      JointDef j;
+      j.type = JointType::Ball;
+      j.a = above, j.b = link;
+      j.anchor = top + Vec3(0.1 * k + 0.05, 0.0, 0.0);
+      w.createJoint(j);
+    }
+    ids.push_back(link);
+    above = link;
+  }
+  return ids;
+}
+
 }  // namespace grip::scenes

@@ -27,6 +27,9 @@ json minimal() {
       {"name": "c", "shape": {"type": "capsule", "radius": 0.05, "halfHeight": 0.1}, "orientation": [1, 0, 0, 0]},
       {"name": "d", "shape": {"type": "hull", "points": [[0,0,0],[0.1,0,0],[0,0.1,0],[0,0,0.1]]}}
     ],
+    "joints": [{"type": "hinge", "a": "floor", "b": "a", "anchor": [0, 1, 0.3], "axis": [0, 0, 2],
+                "limit": [-1, 0.5]},
+               {"type": "ball", "a": "b", "b": "c", "anchor": [0, 0, 0], "collideConnected": true}],
     "interaction": {"method": "kinematic", "gamma": 500, "patchSamples": 5, "touchable": [0, 3]},
     "hands": [{"name": "h", "side": "left", "keyframes": [
       {"time": 0, "palm": {"position": [0, 0.5, 0]}, "pose": "pinch"},
@@ -64,6 +67,18 @@ TEST(SceneParse, AValidSceneFillsTheDefs) {
   EXPECT_EQ(s.bodies[2].def.filter.mask, 5u | (uint64_t{1} << 63));
   EXPECT_EQ(s.bodies[2].def.filter.group, -4);
   EXPECT_EQ(s.bodies[1].def.filter.mask, ~uint64_t{0});  // the default: every kind
+  ASSERT_EQ(s.joints.size(), 2u);
+  EXPECT_EQ(s.joints[0].def.type, JointType::Hinge);
+  EXPECT_EQ(s.joints[0].a, 0);
+  EXPECT_EQ(s.joints[0].b, 1);
+  EXPECT_EQ(s.joints[0].def.axis, Vec3(0, 0, 1));
+  EXPECT_TRUE(s.joints[0].def.enableLimit);
+  EXPECT_DOUBLE_EQ(s.joints[0].def.lower, -1.0);
+  EXPECT_DOUBLE_EQ(s.joints[0].def.upper, 0.5);
+  EXPECT_FALSE(s.joints[0].def.collideConnected);
+  EXPECT_EQ(s.joints[1].def.type, JointType::Ball);
+  EXPECT_TRUE(s.joints[1].def.collideConnected);
+  EXPECT_FALSE(s.joints[1].def.enableLimit);
   EXPECT_EQ(s.interaction.method, InteractionMethod::Kinematic);
   EXPECT_DOUBLE_EQ(s.interaction.gamma, 500.0);
   EXPECT_EQ(s.interaction.touchable.mask, 9u);
@@ -91,6 +106,15 @@ TEST(SceneParse, ErrorsNameTheJsonPath) {
       {"bodies[2].filter.layer", "1", "bodies[2].filter.layer: unknown field"},
       {"bodies[2].filter.group", "0.5", "bodies[2].filter.group: must be an integer"},
       {"interaction.touchable[0]", "-1", "interaction.touchable[0]: must be between 0 and 63"},
+      {"joints[0].type", "\"weld\"", "joints[0].type: must be one of fixed, ball, hinge, slider"},
+      {"joints[0].b", "\"zz\"", "joints[0].b: unknown body \"zz\""},
+      {"joints[0].b", "\"floor\"", "joints[0].b: must be another body than a"},
+      {"joints[0].axis", "[0, 0, 0]", "joints[0].axis: must not be the zero vector"},
+      {"joints[0].limit", "[1, 0]", "joints[0].limit[0]: must not exceed upper"},
+      {"joints[0].limit", "[-4, 0]", "joints[0].limit: a hinge's limits must be within [-pi, pi]"},
+      {"joints[1].limit", "[0, 1]", "joints[1].limit: only hinges and sliders have limits"},
+      {"joints[1].anchor", "[0, 1]", "joints[1].anchor: must be an array of 3 numbers"},
+      {"joints[1].motor", "1", "joints[1].motor: unknown field"},
       {"world.substeps", "0", "world.substeps: must be between 1 and 1000"},
       {"world.substeps", "2.5", "world.substeps: must be an integer"},
       {"world.dt", "0.01", "world.dt: give either hz or dt"},

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <vector>
 
+#include "dynamics/scenes.hpp"
 #include "dynamics/world.hpp"
 
 using namespace grip;
@@ -402,27 +403,7 @@ TEST(Joint, TheSameBitsOnOneThreadAndTwo) {
 TEST(Joint, AChainWhipsWithoutGainingEnergy) {
   for (double endMass : {0.1, 10.0}) {
     World w;
-    CollisionFilter apart;
-    apart.group = -1;  // the joints alone
-    BodyDef s;
-    s.type = BodyType::Static;
-    s.shape = Shape::box(Vec3::Constant(0.05));
-    s.position = Vec3(0.0, 5.0, 0.0);
-    s.filter = apart;
-    BodyId above = w.createBody(s);
-    std::vector<BodyId> links;
-    for (int k = 0; k < 10; ++k) {
-      BodyDef d;
-      d.shape = Shape::capsule(0.02, 0.05);  // along its y, turned to lie along x
-      d.position = Vec3(0.1 * (k + 1), 5.0, 0.0);
-      d.orientation = Quat(Eigen::AngleAxisd(kPi / 2, Vec3::UnitZ()));
-      d.mass = k == 9 ? endMass : 0.1;
-      d.filter = apart;
-      const BodyId link = w.createBody(d);
-      join(w, JointType::Ball, above, link, Vec3(0.1 * k + 0.05, 5.0, 0.0));
-      links.push_back(link);
-      above = link;
-    }
+    const std::vector<BodyId> links = scenes::addChain(w, 10, Vec3(0.0, 5.0, 0.0), 0.1, endMass);
     const double start = totalEnergy(w);
     double most = start, widest = 0.0;
     for (int i = 0; i < 600; ++i) {

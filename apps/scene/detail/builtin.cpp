@@ -264,6 +264,102 @@ json jenga() {
 // Two hands: the right fingertip pushes the target 3 cm out of the -x side (its centre of mass
 // stays over the tower), then the left thumb and index pinch its protruding end on the z faces
 // and pull it out the rest of the way.
+// A door on a hinge (a joint; the hand only touches the door): one fingertip pushes its face
+// 25 cm at 0.1 m/s, sliding along it as it turns away.
+json openDoor() {
+  json s = base("open_door",
+                "One fingertip pushes a 2 kg door on a vertical hinge open by about 30 degrees; "
+                "the hinge (a joint) carries its weight, a stop keeps it from swinging back "
+                "through its frame, and hinge friction (angular damping) settles it.",
+                4.0);
+  const double hx = 0.3, hy = 0.4, hz = 0.015, y = 0.45;
+  json frame = boxBody("frame", 0.02, hy, 0.02, 1.0, Vec3(-hx - 0.03, y, 0));
+  frame.erase("mass");
+  frame["type"] = "static";
+  json door = boxBody("door", hx, hy, hz, 2.0, Vec3(0, y, 0));
+  door["angularDamping"] = 4.0;  // with the linear: a stiff hinge, as a door closer makes it
+  door["linearDamping"] = 4.0;
+  door["interaction"] = {{"gamma", 1000}};
+  s["bodies"] = json::array({frame, door});
+  // Pushed along +z at +x of the hinge, the door turns about -y: its angle is negative.
+  s["joints"] = {{{"type", "hinge"},
+                  {"a", "frame"},
+                  {"b", "door"},
+                  {"anchor", v3(-hx, y, 0)},
+                  {"axis", v3(0, 1, 0)},
+                  {"limit", {-1.5, 0.0}}}};
+  const Vec3 n(0, 0, -1), axis(1, 0, 0);
+  auto at = [&](double t, double push, double depth) {
+    return pressKey(t, {press("index_distal", Vec3(0.2, y, -hz + push), n, axis, depth)});
+  };
+  s["hands"] = {
+      {{"name", "right"},
+       {"keyframes",
+        {at(0.0, 0.0, -0.002), at(0.5, 0.0, 0.006), at(3.0, 0.25, 0.006), at(3.2, 0.25, -0.03)}}}};
+  s["checks"] = {{{"label", "the door opened 25-35 degrees with the fingertip (27 on its path)"},
+                  {"kind", "angle"},
+                  {"body", "door"},
+                  {"axis", v3(0, 1, 0)},
+                  {"min", -35.0},
+                  {"max", -25.0}},
+                 {{"label", "it hangs on the hinge: no sag, no tilt"},
+                  {"kind", "position"},
+                  {"body", "door"},
+                  {"min", {nullptr, y - 0.002, nullptr}},
+                  {"max", {nullptr, y + 0.002, nullptr}}}};
+  return s;
+}
+
+// A drawer on a rail (a slider joint) with a handle welded to its front (a fixed joint): thumb
+// and index pinch the handle and pull the drawer out 20 cm.
+json pullDrawer() {
+  json s = base("pull_drawer",
+                "Thumb and index pinch a drawer's handle and pull the 1 kg drawer 20 cm out of its "
+                "cabinet along its rail (a slider joint, stopped at 30 cm); the handle is welded "
+                "to the drawer (a fixed joint).",
+                3.0);
+  const double y = 0.4, front = 0.2, half = 0.02, depth = 2.0 * holdDepth(0.1);
+  // The cabinet's face 1 cm behind the drawer's front: the handle does not touch it.
+  json cabinet = boxBody("cabinet", 0.25, 0.12, 0.2, 1.0, Vec3(0, y, -0.01));
+  cabinet.erase("mass");
+  cabinet["type"] = "static";
+  json drawer = boxBody("drawer", 0.2, 0.08, 0.2, 1.0, Vec3(0, y, 0.0));
+  const Vec3 c(0, y, front + half);  // the handle's centre, on the drawer's front
+  json handle = boxBody("handle", half, half, half, 0.05, c);
+  s["bodies"] = json::array({cabinet, drawer, handle});
+  s["joints"] = {
+      {{"type", "slider"},
+       {"a", "cabinet"},
+       {"b", "drawer"},
+       {"anchor", v3(0, y, 0)},
+       {"axis", v3(0, 0, 1)},
+       {"limit", {0.0, 0.3}}},
+      {{"type", "fixed"}, {"a", "drawer"}, {"b", "handle"}, {"anchor", v3(0, y, front)}}};
+  const Vec3 out(0, 0, 0.2);
+  s["hands"] = {{{"name", "right"},
+                 {"keyframes",
+                  {pinchKey(0.0, c, half, -0.002), pinchKey(0.3, c, half, depth),
+                   pinchKey(2.3, c + out, half, depth), pinchKey(3.0, c + out, half, depth)}}}};
+  s["checks"] = {{{"label", "the drawer came out 18-21 cm"},
+                  {"kind", "displacement"},
+                  {"body", "drawer"},
+                  {"axis", v3(0, 0, 1)},
+                  {"min", 0.18},
+                  {"max", 0.21}},
+                 {{"label", "the handle stayed on the drawer's front"},
+                  {"kind", "displacement"},
+                  {"body", "handle"},
+                  {"axis", v3(0, 0, 1)},
+                  {"min", 0.18},
+                  {"max", 0.21}},
+                 {{"label", "the drawer ran level on its rail"},
+                  {"kind", "position"},
+                  {"body", "drawer"},
+                  {"min", {-0.002, y - 0.002, nullptr}},
+                  {"max", {0.002, y + 0.002, nullptr}}}};
+  return s;
+}
+
 json jengaTwoHands() {
   json s = base("jenga_two_hands",
                 "Two hands take a block out of a 6-layer Jenga tower: the right index fingertip "
@@ -726,6 +822,9 @@ const std::vector<BuiltinScene>& builtinScenes() {
       {"catch_block", "catch a block knocked off a tower on a flat hand", catchBlock},
       {"jenga_two_hands", "push a Jenga block out with one hand, pull it clear with the other",
        jengaTwoHands},
+      {"open_door", "push a door on a hinge (a joint) open with one fingertip", openDoor},
+      {"pull_drawer", "pinch a drawer's handle and pull it out along its rail (joints)",
+       pullDrawer},
   };
   return scenes;
 }

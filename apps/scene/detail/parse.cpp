@@ -672,6 +672,36 @@ int bodyByName(const json& j, const std::string& path, const Scene& s) {
   fail(path, "unknown body \"" + name + "\"");
 }
 
+JointSpec parseJoint(const json& j, const std::string& path, const Scene& s) {
+  object(j, path, {"type", "a", "b", "anchor", "axis", "limit", "collideConnected"});
+  JointSpec js;
+  JointDef& d = js.def;
+  d.type = static_cast<JointType>(choice(required(j, path, "type"), key(path, "type"),
+                                         std::array{"fixed", "ball", "hinge", "slider"}));
+  js.a = bodyByName(required(j, path, "a"), key(path, "a"), s);
+  js.b = bodyByName(required(j, path, "b"), key(path, "b"), s);
+  if (js.a == js.b) fail(key(path, "b"), "must be another body than a");
+  auto dynamic = [&](int i) {
+    return s.bodies[static_cast<size_t>(i)].def.type == BodyType::Dynamic;
+  };
+  if (!dynamic(js.a) && !dynamic(js.b)) fail(path, "needs a dynamic body (a or b)");
+  d.anchor = vec3(required(j, path, "anchor"), key(path, "anchor"));
+  opt(j, path, "axis", [&](const json& v, const std::string& p) { d.axis = direction(v, p); });
+  opt(j, path, "limit", [&](const json& v, const std::string& p) {
+    if (d.type != JointType::Hinge && d.type != JointType::Slider)
+      fail(p, "only hinges and sliders have limits");
+    if (!v.is_array() || v.size() != 2) fail(p, "must be [lower, upper]");
+    d.enableLimit = true;
+    d.lower = number(v[0], index(p, 0)), d.upper = number(v[1], index(p, 1));
+    if (d.lower > d.upper) fail(index(p, 0), "must not exceed upper");
+    if (d.type == JointType::Hinge && (d.lower < -kPi || d.upper > kPi))
+      fail(p, "a hinge's limits must be within [-pi, pi] rad");
+  });
+  opt(j, path, "collideConnected",
+      [&](const json& v, const std::string& p) { d.collideConnected = boolean(v, p); });
+  return js;
+}
+
 CheckSpec parseCheck(const json& j, const std::string& path, const Scene& s) {
   object(j, path,
          {"kind", "label", "body", "bodies", "except", "hand", "axis", "min", "max", "since"});
@@ -842,8 +872,8 @@ Scene parseScene(const json& doc, const std::string& baseDir) {
   Scene s;
   s.baseDir = baseDir;
   object(doc, "",
-         {"grip_scene", "name", "description", "world", "materials", "bodies", "interaction",
-          "hands", "duration", "seed", "checks"});
+         {"grip_scene", "name", "description", "world", "materials", "bodies", "joints",
+          "interaction", "hands", "duration", "seed", "checks"});
   const json& version = required(doc, "", "grip_scene");
   if (!version.is_number_integer() || version.get<int64_t>() != kSceneVersion) {
     fail("grip_scene", "unsupported version " + version.dump() + " (this grip reads version " +
@@ -881,6 +911,10 @@ Scene parseScene(const json& doc, const std::string& baseDir) {
       fail(key(p, "name"), "duplicate body name \"" + s.bodies.back().def.name + "\"");
     }
   }
+  opt(doc, "", "joints", [&](const json& v, const std::string& p) {
+    if (!v.is_array()) fail(p, "must be an array");
+    for (size_t i = 0; i < v.size(); ++i) s.joints.push_back(parseJoint(v[i], index(p, i), s));
+  });
   opt(doc, "", "interaction",
       [&](const json& v, const std::string& p) { parseInteraction(v, p, s.interaction); });
   opt(doc, "", "hands", [&](const json& v, const std::string& p) {

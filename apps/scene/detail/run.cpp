@@ -301,6 +301,16 @@ RunResult run(const Scene& scene, const RunOptions& options) {
     }
     if (b.interaction) ix.setBodyOverrides(ids.back(), *b.interaction);
   }
+  for (size_t k = 0; k < scene.joints.size(); ++k) {
+    JointDef d = scene.joints[k].def;
+    d.a = ids[static_cast<size_t>(scene.joints[k].a)];
+    d.b = ids[static_cast<size_t>(scene.joints[k].b)];
+    try {
+      world.createJoint(d);
+    } catch (const Error& e) {
+      throw Error("joints[" + std::to_string(k) + "]", e.what());
+    }
+  }
   std::vector<HandId> hands;
   std::vector<HandScript> scripts;
   std::vector<HandShapes> handShapes;
