@@ -30,6 +30,14 @@ struct JointRows {
   JointRow locked[6];
   JointRow limit;         // along +axis: its velocity opens the hinge or the slider
   double position = 0.0;  // the hinge's angle or the slider's translation
+  // False for bodies so far apart (1e150 m) that the arms overflow: such a joint holds nothing
+  // rather than turning the bodies' velocities into NaN.
+  bool finite() const {
+    double sum = std::abs(limit.error) + limit.angA.norm() + limit.angB.norm();
+    for (int k = 0; k < count; ++k)
+      sum += std::abs(locked[k].error) + locked[k].angA.norm() + locked[k].angB.norm();
+    return std::isfinite(sum);
+  }
 };
 
 // The rotation vector of q (axis times angle, the angle in [0, pi]).
@@ -216,6 +224,7 @@ void World::Impl::warmStartJoints() {
   for (uint32_t i : solvedJoints) {
     Joint& j = joints[i];
     const auto [jb, rows] = jointNow(j, bodies, solverBodies);
+    if (!rows.finite()) continue;
     for (int k = 0; k < rows.count; ++k) jb.apply(rows.locked[k], j.impulse[k]);
     if (j.enableLimit) {
       jb.apply(limitSide(rows, j.lower, 1.0), j.lowerImpulse);
@@ -231,6 +240,7 @@ void World::Impl::solveJoints(double h, bool useBias) {
   for (uint32_t i : solvedJoints) {
     Joint& j = joints[i];
     const auto [jb, rows] = jointNow(j, bodies, solverBodies);
+    if (!rows.finite()) continue;
     // The locked rows, and the nearer side of a limit, as one block: K impulse = -(velocity +
     // bias), soft as the contacts. A limit's torque alone would turn the door about its centre
     // of mass and the hinge's rows turn it back, so solved apart they stop it inexactly (a door
@@ -241,7 +251,10 @@ void World::Impl::solveJoints(double h, bool useBias) {
     double bias[7], massScale[7], impulseScale[7];
     for (int r = 0; r < n; ++r) {
       all[r] = rows.locked[r], accumulated[r] = &j.impulse[r];
-      bias[r] = useBias ? soft.biasRate * all[r].error : 0.0;
+      // The drift pulled back no faster than the speed limits (a body teleported far from its
+      // partner would otherwise be thrown back at any speed, and turn NaN at 1e200 m).
+      const double cap = all[r].lin.isZero() ? def.maxAngularSpeed : def.maxLinearSpeed;
+      bias[r] = useBias ? std::clamp(soft.biasRate * all[r].error, -cap, cap) : 0.0;
       massScale[r] = useBias ? soft.massScale : 1.0;
       impulseScale[r] = useBias ? soft.impulseScale : 0.0;
     }
@@ -265,7 +278,7 @@ void World::Impl::solveJoints(double h, bool useBias) {
         impulseScale[m] = soft.impulseScale;
       ++m;
     }
-    double K[7][7], rhs[7], solved[7], impulse[7];
+    double K[7][7], rhs[7], solved[7], impulse[7] = {};
     for (int r = 0; r < m; ++r) {
       for (int c = 0; c <= r; ++c) K[r][c] = K[c][r] = jb.mass(all[r], all[c]);
       rhs[r] = jb.velocity(all[r]) + bias[r];
@@ -281,6 +294,10 @@ void World::Impl::solveJoints(double h, bool useBias) {
       for (int r = 0; r < n; ++r)
         impulse[r] = -massScale[r] * solved[r] - impulseScale[r] * *accumulated[r];
     }
+    // (Arms within range can still overflow K, as JointRows::finite.)
+    double total = 0.0;
+    for (int r = 0; r < m; ++r) total += std::abs(impulse[r]);
+    if (!std::isfinite(total)) continue;
     for (int r = 0; r < m; ++r) {
       *accumulated[r] += impulse[r];
       jb.apply(all[r], impulse[r]);

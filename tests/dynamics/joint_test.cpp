@@ -419,3 +419,20 @@ TEST(Joint, AChainWhipsWithoutGainingEnergy) {
     EXPECT_LT(widest, endMass > 1.0 ? 0.06 : 0.015) << "end mass " << endMass;
   }
 }
+
+// A joint whose body is moved absurdly far away (its arm overflows) holds nothing: the state
+// stays finite, and the far body falls freely. The same with the anchor made that far out.
+TEST(Joint, ABodyMovedAbsurdlyFarLeavesTheStateFinite) {
+  for (bool farAnchor : {false, true}) {
+    World w;
+    const BodyId support = addStatic(w, Vec3(0.0, 2.0, 0.0));
+    const BodyId bob = addBall(w, 0.05, Vec3(0.0, 1.0, 0.0), 1.0);
+    join(w, JointType::Hinge, support, bob, farAnchor ? Vec3(1e200, 0.0, 0.0) : Vec3(0, 2, 0));
+    for (int i = 0; i < 10; ++i) w.step(kDt);
+    if (!farAnchor) w.setPose(bob, Vec3(1e200, 1.0, 0.0), Quat::Identity());
+    for (int i = 0; i < 10; ++i) w.step(kDt);
+    EXPECT_TRUE(w.linearVelocity(bob).allFinite()) << farAnchor;
+    EXPECT_TRUE(w.angularVelocity(bob).allFinite()) << farAnchor;
+    EXPECT_TRUE(w.pose(bob).p.allFinite()) << farAnchor;
+  }
+}
