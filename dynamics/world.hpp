@@ -83,6 +83,12 @@ struct JointDef {
   // from the bodies' poses when the joint is made.
   bool enableLimit = false;
   double lower = 0.0, upper = 0.0;
+  // A motor drives the hinge's turn or the slider's travel toward `motorSpeed` (rad/s or m/s,
+  // the limits' sense) with at most `maxMotorForce` (N m or N). Speed 0 makes it joint
+  // friction: the joint holds until pushed harder than that.
+  bool enableMotor = false;
+  double motorSpeed = 0.0;
+  double maxMotorForce = 0.0;
   bool collideConnected = false;  // false: the two bodies make no contacts with each other
 };
 
@@ -208,6 +214,10 @@ class World {
   // A hinge's angle (rad) or a slider's translation (m), counted from where it was made (as
   // its limits are); ball and fixed joints have none (an error).
   double jointPosition(JointId id) const;
+  // The rate of jointPosition (rad/s or m/s).
+  double jointSpeed(JointId id) const;
+  // Turns a hinge's or slider's motor on or off (as JointDef's fields); wakes the bodies.
+  void setJointMotor(JointId id, bool enable, double speed, double maxForce);
   // The force the joint exerted on b over the last step's last substep (N; on a the opposite),
   // as contactForce: a door hanging on two hinges feels its weight in them.
   Vec3 jointForce(JointId id) const;

@@ -7,6 +7,7 @@
 // rows are built each time from the bodies' current poses.
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "dynamics/detail/world_impl.hpp"
 
@@ -17,6 +18,8 @@ using detail::Joint;
 using detail::SolverBody;
 
 namespace {
+
+constexpr double kInfinity = std::numeric_limits<double>::infinity();
 
 // velocity = lin.(vB - vA) + angB.wB - angA.wA; `error` is its position (drift).
 struct JointRow {
@@ -158,6 +161,49 @@ void solveSymmetric(const double (&K)[7][7], const double (&b)[7], int m, double
   }
 }
 
+// One row of a joint's block: what its velocity is pulled toward (minus the bias), how softly,
+// and the bounds of its accumulated impulse.
+struct BlockRow {
+  JointRow row;
+  double* accumulated = nullptr;
+  double bias = 0.0, massScale = 1.0, impulseScale = 0.0;
+  double lo = -kInfinity, hi = kInfinity;
+};
+
+// rows[0, n) (unbounded) and rows[n, m) (m <= n + 1: one bounded row at most) solved together:
+// K impulse = -(velocity + bias), softened as the contacts are. Where the bounded row's total
+// would leave its bounds it is held at the bound and the rest solved again with that.
+void solveBlock(const JointBodies& jb, const BlockRow* rows, int n, int m) {
+  double K[7][7], rhs[7], x[7], impulse[7] = {};
+  for (int r = 0; r < m; ++r) {
+    for (int c = 0; c <= r; ++c) K[r][c] = K[c][r] = jb.mass(rows[r].row, rows[c].row);
+    rhs[r] = jb.velocity(rows[r].row) + rows[r].bias;
+  }
+  auto impulsesOf = [&](int count) {
+    solveSymmetric(K, rhs, count, x);
+    for (int r = 0; r < count; ++r)
+      impulse[r] = -rows[r].massScale * x[r] - rows[r].impulseScale * *rows[r].accumulated;
+  };
+  impulsesOf(m);
+  if (m > n) {
+    const BlockRow& b = rows[n];
+    const double total = *b.accumulated + impulse[n];
+    if (total < b.lo || total > b.hi) {
+      impulse[n] = std::clamp(total, b.lo, b.hi) - *b.accumulated;
+      for (int r = 0; r < n; ++r) rhs[r] += K[r][n] * impulse[n];
+      impulsesOf(n);
+    }
+  }
+  // (Arms within range can still overflow K, as JointRows::finite.)
+  double size = 0.0;
+  for (int r = 0; r < m; ++r) size += std::abs(impulse[r]);
+  if (!std::isfinite(size)) return;
+  for (int r = 0; r < m; ++r) {
+    *rows[r].accumulated += impulse[r];
+    jb.apply(rows[r].row, impulse[r]);
+  }
+}
+
 }  // namespace
 
 // ---- World::Impl: the step's share ---------------------------------------------------------
@@ -230,6 +276,7 @@ void World::Impl::warmStartJoints() {
       jb.apply(limitSide(rows, j.lower, 1.0), j.lowerImpulse);
       jb.apply(limitSide(rows, j.upper, -1.0), j.upperImpulse);
     }
+    if (j.enableMotor) jb.apply(rows.limit, j.motorImpulse);
   }
 }
 
@@ -241,67 +288,61 @@ void World::Impl::solveJoints(double h, bool useBias) {
     Joint& j = joints[i];
     const auto [jb, rows] = jointNow(j, bodies, solverBodies);
     if (!rows.finite()) continue;
-    // The locked rows, and the nearer side of a limit, as one block: K impulse = -(velocity +
-    // bias), soft as the contacts. A limit's torque alone would turn the door about its centre
-    // of mass and the hinge's rows turn it back, so solved apart they stop it inexactly (a door
-    // bounced off its stop at an eighth of its speed); in the block it stops dead.
+    // The locked rows as one block with the motor, then with the nearer side of a limit (the
+    // limit has the last word). A limit's torque alone would turn a door about its centre of
+    // mass and the hinge's rows turn it back, so solved apart they stop it inexactly (a door
+    // bounced off its stop at an eighth of its speed); in the block it stops dead. The motor
+    // and the limit act along one axis, so they cannot share a block (K would be singular).
     const int n = rows.count;
-    JointRow all[7];
-    double* accumulated[7];
-    double bias[7], massScale[7], impulseScale[7];
+    BlockRow block[7];
     for (int r = 0; r < n; ++r) {
-      all[r] = rows.locked[r], accumulated[r] = &j.impulse[r];
+      BlockRow& b = block[r];
+      b.row = rows.locked[r], b.accumulated = &j.impulse[r];
+      if (!useBias) continue;
       // The drift pulled back no faster than the speed limits (a body teleported far from its
       // partner would otherwise be thrown back at any speed, and turn NaN at 1e200 m).
-      const double cap = all[r].lin.isZero() ? def.maxAngularSpeed : def.maxLinearSpeed;
-      bias[r] = useBias ? std::clamp(soft.biasRate * all[r].error, -cap, cap) : 0.0;
-      massScale[r] = useBias ? soft.massScale : 1.0;
-      impulseScale[r] = useBias ? soft.impulseScale : 0.0;
+      const double cap = b.row.lin.isZero() ? def.maxAngularSpeed : def.maxLinearSpeed;
+      b.bias = std::clamp(soft.biasRate * b.row.error, -cap, cap);
+      b.massScale = soft.massScale, b.impulseScale = soft.impulseScale;
     }
-    int m = n;
+    if (j.enableMotor) {  // rigid toward its speed, within its force
+      BlockRow& b = block[n];
+      b.row = rows.limit, b.accumulated = &j.motorImpulse;
+      b.bias = -j.motorSpeed;
+      b.hi = j.maxMotorForce * h, b.lo = -b.hi;
+      if (!j.enableLimit) {
+        solveBlock(jb, block, n, n + 1);
+        continue;
+      }
+      // The limit's block follows and softens the locked rows: here they are only held rigid.
+      BlockRow rigid[7];
+      for (int r = 0; r <= n; ++r) rigid[r] = block[r];
+      for (int r = 0; r < n; ++r)
+        rigid[r].bias = 0.0, rigid[r].massScale = 1.0, rigid[r].impulseScale = 0.0;
+      solveBlock(jb, rigid, n, n + 1);
+    }
     if (j.enableLimit) {
       // One side at a time: the other lets go of what it held.
       const bool lowerSide = rows.position - j.lower < j.upper - rows.position;
       double& other = lowerSide ? j.upperImpulse : j.lowerImpulse;
-      const JointRow side =
-          lowerSide ? limitSide(rows, j.lower, 1.0) : limitSide(rows, j.upper, -1.0);
-      jb.apply(side, other);  // (the other side's row is this one's, negated)
+      BlockRow& b = block[n];
+      b = BlockRow{};
+      b.row = lowerSide ? limitSide(rows, j.lower, 1.0) : limitSide(rows, j.upper, -1.0);
+      jb.apply(b.row, other);  // (the other side's row is this one's, negated)
       other = 0.0;
-      all[m] = side, accumulated[m] = lowerSide ? &j.lowerImpulse : &j.upperImpulse;
+      b.accumulated = lowerSide ? &j.lowerImpulse : &j.upperImpulse;
       // Open, it lets the bodies close the gap within the substep and no more (speculative, as
-      // Box2D's); once passed, it is soft.
-      bias[m] = 0.0, massScale[m] = 1.0, impulseScale[m] = 0.0;
-      if (side.error > 0.0)
-        bias[m] = side.error / h;
+      // Box2D's); once passed, it is soft. It only pushes.
+      if (b.row.error > 0.0)
+        b.bias = b.row.error / h;
       else if (useBias)
-        bias[m] = soft.biasRate * side.error, massScale[m] = soft.massScale,
-        impulseScale[m] = soft.impulseScale;
-      ++m;
+        b.bias = soft.biasRate * b.row.error, b.massScale = soft.massScale,
+        b.impulseScale = soft.impulseScale;
+      b.lo = 0.0;
+      solveBlock(jb, block, n, n + 1);
+      continue;
     }
-    double K[7][7], rhs[7], solved[7], impulse[7] = {};
-    for (int r = 0; r < m; ++r) {
-      for (int c = 0; c <= r; ++c) K[r][c] = K[c][r] = jb.mass(all[r], all[c]);
-      rhs[r] = jb.velocity(all[r]) + bias[r];
-    }
-    solveSymmetric(K, rhs, m, solved);
-    for (int r = 0; r < m; ++r)
-      impulse[r] = -massScale[r] * solved[r] - impulseScale[r] * *accumulated[r];
-    if (m > n && *accumulated[n] + impulse[n] < 0.0) {
-      // The limit would pull: it lets go, and the locked rows are solved with that.
-      impulse[n] = -*accumulated[n];
-      for (int r = 0; r < n; ++r) rhs[r] += K[r][n] * impulse[n];
-      solveSymmetric(K, rhs, n, solved);
-      for (int r = 0; r < n; ++r)
-        impulse[r] = -massScale[r] * solved[r] - impulseScale[r] * *accumulated[r];
-    }
-    // (Arms within range can still overflow K, as JointRows::finite.)
-    double total = 0.0;
-    for (int r = 0; r < m; ++r) total += std::abs(impulse[r]);
-    if (!std::isfinite(total)) continue;
-    for (int r = 0; r < m; ++r) {
-      *accumulated[r] += impulse[r];
-      jb.apply(all[r], impulse[r]);
-    }
+    solveBlock(jb, block, n, n);
   }
 }
 
@@ -363,6 +404,12 @@ JointId World::createJoint(const JointDef& d) {
     if (d.type == JointType::Hinge && (d.lower < -kPi || d.upper > kPi))
       throw Error(d.lower < -kPi ? "JointDef.lower" : "JointDef.upper", "must be within [-pi, pi]");
   }
+  if (d.enableMotor) {
+    if (d.type != JointType::Hinge && d.type != JointType::Slider)
+      throw Error("JointDef.enableMotor", "only hinges and sliders have motors");
+    requireFinite(d.motorSpeed, "JointDef.motorSpeed");
+    requireNonNegative(d.maxMotorForce, "JointDef.maxMotorForce");
+  }
 
   Joint j;
   j.alive = true;
@@ -376,6 +423,7 @@ JointId World::createJoint(const JointDef& d) {
   j.reference = A.pose.q.conjugate() * B.pose.q;
   j.enableLimit = d.enableLimit, j.collideConnected = d.collideConnected;
   j.lower = d.lower, j.upper = d.upper;
+  j.enableMotor = d.enableMotor, j.motorSpeed = d.motorSpeed, j.maxMotorForce = d.maxMotorForce;
 
   uint32_t slot;
   if (!w.freeJointSlots.empty()) {
@@ -423,6 +471,27 @@ double World::jointPosition(JointId id) const {
   return jointRows(j, A.com, A.pose.q, B.com, B.pose.q).position;
 }
 
+double World::jointSpeed(JointId id) const {
+  const Joint& j = jointOf(impl_->joints, id, "jointSpeed.id");
+  if (j.type != JointType::Hinge && j.type != JointType::Slider)
+    throw Error("jointSpeed.id", "only hinges and sliders have a position");
+  const Body &A = impl_->bodies[j.a], &B = impl_->bodies[j.b];
+  const JointRow r = jointRows(j, A.com, A.pose.q, B.com, B.pose.q).limit;
+  return r.lin.dot(B.v - A.v) + r.angB.dot(B.w) - r.angA.dot(A.w);
+}
+
+void World::setJointMotor(JointId id, bool enable, double speed, double maxForce) {
+  const Joint& found = jointOf(impl_->joints, id, "setJointMotor.id");
+  if (found.type != JointType::Hinge && found.type != JointType::Slider)
+    throw Error("setJointMotor.id", "only hinges and sliders have motors");
+  requireFinite(speed, "setJointMotor.speed");
+  requireNonNegative(maxForce, "setJointMotor.maxForce");
+  Joint& j = impl_->joints[id.index];
+  j.enableMotor = enable, j.motorSpeed = speed, j.maxMotorForce = maxForce;
+  if (!enable) j.motorImpulse = 0.0;
+  impl_->wakeBody(j.a), impl_->wakeBody(j.b);
+}
+
 Vec3 World::jointForce(JointId id) const {
   const Joint& j = jointOf(impl_->joints, id, "jointForce.id");
   if (impl_->lastSubstep == 0.0) return Vec3::Zero();
@@ -434,6 +503,7 @@ Vec3 World::jointForce(JointId id) const {
     impulse += j.lowerImpulse * limitSide(rows, j.lower, 1.0).lin;
     impulse += j.upperImpulse * limitSide(rows, j.upper, -1.0).lin;
   }
+  if (j.enableMotor) impulse += j.motorImpulse * rows.limit.lin;
   return impulse / impl_->lastSubstep;
 }
 

@@ -28,7 +28,7 @@ json minimal() {
       {"name": "d", "shape": {"type": "hull", "points": [[0,0,0],[0.1,0,0],[0,0.1,0],[0,0,0.1]]}}
     ],
     "joints": [{"type": "hinge", "a": "floor", "b": "a", "anchor": [0, 1, 0.3], "axis": [0, 0, 2],
-                "limit": [-1, 0.5]},
+                "limit": [-1, 0.5], "motor": {"speed": 0.5, "maxForce": 2}},
                {"type": "ball", "a": "b", "b": "c", "anchor": [0, 0, 0], "collideConnected": true}],
     "interaction": {"method": "kinematic", "gamma": 500, "patchSamples": 5, "touchable": [0, 3]},
     "hands": [{"name": "h", "side": "left", "keyframes": [
@@ -76,6 +76,9 @@ TEST(SceneParse, AValidSceneFillsTheDefs) {
   EXPECT_DOUBLE_EQ(s.joints[0].def.lower, -1.0);
   EXPECT_DOUBLE_EQ(s.joints[0].def.upper, 0.5);
   EXPECT_FALSE(s.joints[0].def.collideConnected);
+  EXPECT_TRUE(s.joints[0].def.enableMotor);
+  EXPECT_DOUBLE_EQ(s.joints[0].def.motorSpeed, 0.5);
+  EXPECT_DOUBLE_EQ(s.joints[0].def.maxMotorForce, 2.0);
   EXPECT_EQ(s.joints[1].def.type, JointType::Ball);
   EXPECT_TRUE(s.joints[1].def.collideConnected);
   EXPECT_FALSE(s.joints[1].def.enableLimit);
@@ -114,7 +117,11 @@ TEST(SceneParse, ErrorsNameTheJsonPath) {
       {"joints[0].limit", "[-4, 0]", "joints[0].limit: a hinge's limits must be within [-pi, pi]"},
       {"joints[1].limit", "[0, 1]", "joints[1].limit: only hinges and sliders have limits"},
       {"joints[1].anchor", "[0, 1]", "joints[1].anchor: must be an array of 3 numbers"},
-      {"joints[1].motor", "1", "joints[1].motor: unknown field"},
+      {"joints[1].motor", "{\"maxForce\": 1}",
+       "joints[1].motor: only hinges and sliders have motors"},
+      {"joints[0].motor.maxForce", "-1", "joints[0].motor.maxForce: must not be negative"},
+      {"joints[0].motor.torque", "1", "joints[0].motor.torque: unknown field"},
+      {"joints[1].spring", "1", "joints[1].spring: unknown field"},
       {"world.substeps", "0", "world.substeps: must be between 1 and 1000"},
       {"world.substeps", "2.5", "world.substeps: must be an integer"},
       {"world.dt", "0.01", "world.dt: give either hz or dt"},

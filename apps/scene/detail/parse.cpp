@@ -673,7 +673,7 @@ int bodyByName(const json& j, const std::string& path, const Scene& s) {
 }
 
 JointSpec parseJoint(const json& j, const std::string& path, const Scene& s) {
-  object(j, path, {"type", "a", "b", "anchor", "axis", "limit", "collideConnected"});
+  object(j, path, {"type", "a", "b", "anchor", "axis", "limit", "motor", "collideConnected"});
   JointSpec js;
   JointDef& d = js.def;
   d.type = static_cast<JointType>(choice(required(j, path, "type"), key(path, "type"),
@@ -696,6 +696,14 @@ JointSpec parseJoint(const json& j, const std::string& path, const Scene& s) {
     if (d.lower > d.upper) fail(index(p, 0), "must not exceed upper");
     if (d.type == JointType::Hinge && (d.lower < -kPi || d.upper > kPi))
       fail(p, "a hinge's limits must be within [-pi, pi] rad");
+  });
+  opt(j, path, "motor", [&](const json& v, const std::string& p) {
+    if (d.type != JointType::Hinge && d.type != JointType::Slider)
+      fail(p, "only hinges and sliders have motors");
+    object(v, p, {"speed", "maxForce"});
+    d.enableMotor = true;
+    opt(v, p, "speed", [&](const json& x, const std::string& xp) { d.motorSpeed = number(x, xp); });
+    d.maxMotorForce = nonNegative(required(v, p, "maxForce"), key(p, "maxForce"));
   });
   opt(j, path, "collideConnected",
       [&](const json& v, const std::string& p) { d.collideConnected = boolean(v, p); });
