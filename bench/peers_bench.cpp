@@ -7,6 +7,7 @@
 // run); PileRest1000 starts every engine from the same resting pile (grip's, settled for 10 s),
 // at each engine's defaults, and PileRest1000Awake the same with sleeping off in every engine
 // (the cost of holding a pile up).
+// Chain10, Chain30 and Chain10Heavy hang chains of thin boxes on ball joints (runChain).
 // Counters: ms_per_step (wall time per step), below (bodies whose centre went below the ground
 // at any step); for the resting piles moved (bodies more than 5 mm from their start at the
 // end); for the stacks settle_mm (the top's movement in the first second) and drift_mm
@@ -114,6 +115,77 @@ void runScene(benchmark::State& state, const std::string& name,
   }
 }
 
+// A chain of `links` thin boxes (10 x 2 x 2 cm, 0.1 kg; the last `endMass`) hanging from a fixed
+// point by ball joints at their shared ends, released level, 600 steps at 60 Hz, everything
+// awake, the links touching nothing. Counters: gap_mm (the widest any joint opened over the
+// run), gap_end_mm (the widest at the end), gain_mJ (the most the energy rose above its start;
+// a chain swinging without friction should not gain any), lost_mJ (what it lost by the end:
+// the joints' softness and the solver's passes damp the swing).
+void runChain(benchmark::State& state, const std::string& name, int links, double endMass) {
+  const sweep::Engine& e = engine(name);
+  sweep::SceneDef scene;
+  scene.sleep = false;
+  const Vec3 top(0.0, 5.0, 0.0), half(0.05, 0.01, 0.01), g = scene.gravity;
+  const int steps = 600;
+  double widest = 0, atEnd = 0, gain = 0, lost = 0, stepMs = 0;
+  int runs = 0;
+  for (auto _ : state) {
+    auto sim = e.make(scene, e.defaults);
+    std::vector<double> mass;
+    for (int k = 0; k < links; ++k) {
+      sweep::SolidDef d;
+      d.halfExtents = half;
+      d.mass = k + 1 == links ? endMass : 0.1;
+      d.position = top + Vec3(0.1 * k + 0.05, 0.0, 0.0);
+      d.collides = false;
+      mass.push_back(d.mass);
+      sim->add(d);
+      sim->joinBall(k - 1, k, top + Vec3(0.1 * k, 0.0, 0.0));
+    }
+    auto gap = [&] {
+      double most = (sim->position(0) + sim->orientation(0) * Vec3(-0.05, 0, 0) - top).norm();
+      for (int k = 1; k < links; ++k) {
+        const Vec3 end = sim->position(k - 1) + sim->orientation(k - 1) * Vec3(0.05, 0, 0);
+        const Vec3 start = sim->position(k) + sim->orientation(k) * Vec3(-0.05, 0, 0);
+        most = std::max(most, (end - start).norm());
+      }
+      return most;
+    };
+    auto energy = [&] {
+      double E = 0;
+      for (int k = 0; k < links; ++k) {
+        const double m = mass[k];
+        const Vec3 I = m / 3.0 *
+                       Vec3(half.y() * half.y() + half.z() * half.z(),
+                            half.x() * half.x() + half.z() * half.z(),
+                            half.x() * half.x() + half.y() * half.y());
+        const Vec3 w = sim->orientation(k).conjugate() * sim->angularVelocity(k);
+        E += 0.5 * m * sim->linearVelocity(k).squaredNorm() + 0.5 * w.dot(I.cwiseProduct(w)) -
+             m * g.dot(sim->position(k));
+      }
+      return E;
+    };
+    const double start = energy();
+    widest = 0, gain = 0;
+    for (int s = 0; s < steps; ++s) {
+      const auto t0 = std::chrono::steady_clock::now();
+      sim->step();
+      stepMs +=
+          std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+      widest = std::max(widest, gap());
+      gain = std::max(gain, energy() - start);
+    }
+    atEnd = gap();
+    lost = start - energy();
+    ++runs;
+  }
+  state.counters["ms_per_step"] = stepMs / (runs * steps);
+  state.counters["gap_mm"] = widest * 1e3;
+  state.counters["gap_end_mm"] = atEnd * 1e3;
+  state.counters["gain_mJ"] = gain * 1e3;
+  state.counters["lost_mJ"] = lost * 1e3;
+}
+
 void registerAll() {
   struct Case {
     const char* name;
@@ -147,6 +219,24 @@ void registerAll() {
   }
 }
 
-const int registered = (registerAll(), 0);
+void registerChains() {
+  struct Chain {
+    const char* name;
+    int links;
+    double endMass;
+  };
+  for (const Chain& c :
+       {Chain{"Chain10", 10, 0.1}, Chain{"Chain30", 30, 0.1}, Chain{"Chain10Heavy", 10, 10.0}})
+    for (const sweep::Engine& e : peers::allEngines()) {
+      const std::string name = "BM_Peer_" + std::string(c.name) + "_" + e.name;
+      benchmark::RegisterBenchmark(
+          name.c_str(),
+          [c, n = e.name](benchmark::State& s) { runChain(s, n, c.links, c.endMass); })
+          ->Unit(benchmark::kMillisecond)
+          ->Iterations(3);
+    }
+}
+
+const int registered = (registerAll(), registerChains(), 0);
 
 }  // namespace

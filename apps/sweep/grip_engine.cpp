@@ -25,10 +25,18 @@ class GripSim : public Sim {
     d.angularVelocity = s.angularVelocity;
     d.material.staticFriction = d.material.dynamicFriction = s.friction * s.friction;
     d.material.restitution = s.restitution;  // grip takes the larger; the ground has 0
+    if (!s.collides) d.filter.mask = 0;
     ids_.push_back(world_.createBody(d));
     return static_cast<int>(ids_.size()) - 1;
   }
   void addForce(int body, const Vec3& f) override { world_.addForce(ids_[body], f); }
+  void joinBall(int a, int b, const Vec3& anchor) override {
+    JointDef j;
+    j.a = a >= 0 ? ids_[a] : fixedPoint(anchor);
+    j.b = ids_[b];
+    j.anchor = anchor;
+    world_.createJoint(j);
+  }
   void step() override { world_.step(dt_); }
   Vec3 position(int body) const override { return world_.pose(ids_[body]).p; }
   Quat orientation(int body) const override { return world_.pose(ids_[body]).q; }
@@ -36,6 +44,15 @@ class GripSim : public Sim {
   Vec3 angularVelocity(int body) const override { return world_.angularVelocity(ids_[body]); }
 
  private:
+  // A static body to hang joints on, touching nothing.
+  BodyId fixedPoint(const Vec3& at) {
+    BodyDef d;
+    d.type = BodyType::Static;
+    d.shape = Shape::sphere(0.01);
+    d.position = at;
+    d.filter.mask = 0;
+    return world_.createBody(d);
+  }
   static WorldDef def(const SceneDef& sc, const Settings& s, int threads) {
     WorldDef d;
     d.workerThreads = threads;

@@ -32,6 +32,7 @@ struct SolidDef {
   Vec3 angularVelocity = Vec3::Zero();
   double friction = 0.5;
   double restitution = 0.0;
+  bool collides = true;  // false: makes no contacts at all (a chain's links: the joints alone)
 };
 
 struct SceneDef {
@@ -57,7 +58,10 @@ class Sim {
   virtual ~Sim() = default;
   virtual int add(const SolidDef& s) = 0;
   virtual void addForce(int body, const Vec3& f) = 0;  // at the centre, for the next step only
-  virtual void step() = 0;                             // one step of Settings::dt
+  // A ball joint between bodies a and b (a = -1: the static world) at a world point, as they
+  // are now.
+  virtual void joinBall(int a, int b, const Vec3& anchor) = 0;
+  virtual void step() = 0;  // one step of Settings::dt
   virtual Vec3 position(int body) const = 0;
   virtual Quat orientation(int body) const = 0;
   virtual Vec3 linearVelocity(int body) const = 0;

@@ -18,6 +18,7 @@ class BulletSim final : public sweep::Sim {
            btTransform::getIdentity(), 1.0, 1.0);
   }
   ~BulletSim() override {
+    for (auto& c : constraints_) world_.removeConstraint(c.get());
     for (auto& b : bodies_) world_.removeRigidBody(b.get());
   }
   int add(const sweep::SolidDef& s) override {
@@ -36,6 +37,8 @@ class BulletSim final : public sweep::Sim {
     b->setAngularVelocity(
         btVector3(s.angularVelocity.x(), s.angularVelocity.y(), s.angularVelocity.z()));
     if (!sleep_) b->setActivationState(DISABLE_DEACTIVATION);
+    if (!s.collides)
+      b->setCollisionFlags(b->getCollisionFlags() | btCollisionObject::CF_NO_CONTACT_RESPONSE);
     dynamic_.push_back(b);
     return static_cast<int>(dynamic_.size()) - 1;
   }
@@ -43,6 +46,19 @@ class BulletSim final : public sweep::Sim {
   void addForce(int body, const Vec3& f) override {
     dynamic_[body]->activate();
     dynamic_[body]->applyCentralForce(btVector3(f.x(), f.y(), f.z()));
+  }
+  void joinBall(int a, int b, const Vec3& anchor) override {
+    btRigidBody& B = *dynamic_[b];
+    const btVector3 at(anchor.x(), anchor.y(), anchor.z());
+    const btVector3 inB = B.getCenterOfMassTransform().inverse() * at;
+    if (a < 0) {
+      constraints_.push_back(std::make_unique<btPoint2PointConstraint>(B, inB));
+    } else {
+      btRigidBody& A = *dynamic_[a];
+      const btVector3 inA = A.getCenterOfMassTransform().inverse() * at;
+      constraints_.push_back(std::make_unique<btPoint2PointConstraint>(A, B, inA, inB));
+    }
+    world_.addConstraint(constraints_.back().get(), true);  // no contacts between the two
   }
   void step() override { world_.stepSimulation(s_.dt, s_.substeps, s_.dt / s_.substeps); }
   Vec3 position(int body) const override {
@@ -89,6 +105,7 @@ class BulletSim final : public sweep::Sim {
   std::vector<std::unique_ptr<btDefaultMotionState>> motions_;
   std::vector<std::unique_ptr<btRigidBody>> bodies_;
   std::vector<btRigidBody*> dynamic_;
+  std::vector<std::unique_ptr<btTypedConstraint>> constraints_;
 };
 
 }  // namespace

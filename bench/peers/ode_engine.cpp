@@ -51,6 +51,7 @@ class OdeSim final : public sweep::Sim {
     }
     dBodySetMass(b, &m);
     dGeomSetBody(g, b);
+    if (!s.collides) dGeomSetCollideBits(g, 0), dGeomSetCategoryBits(g, 0);
     dGeomSetData(g, &surfaces_.emplace_back(Surface{s.friction, s.restitution}));
     dBodySetPosition(b, s.position.x(), s.position.y(), s.position.z());
     const dQuaternion q = {s.orientation.w(), s.orientation.x(), s.orientation.y(),
@@ -61,6 +62,11 @@ class OdeSim final : public sweep::Sim {
     bodies_.push_back(b);
     forces_.push_back(Vec3::Zero());
     return static_cast<int>(bodies_.size()) - 1;
+  }
+  void joinBall(int a, int b, const Vec3& anchor) override {
+    const dJointID j = dJointCreateBall(world_, nullptr);
+    dJointAttach(j, a >= 0 ? bodies_[a] : nullptr, bodies_[b]);
+    dJointSetBallAnchor(j, anchor.x(), anchor.y(), anchor.z());
   }
   // ODE clears forces after every dWorldStep: the force is re-applied for each substep.
   void addForce(int body, const Vec3& f) override { forces_[body] += f; }
