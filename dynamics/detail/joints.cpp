@@ -3,8 +3,8 @@
 // biased pass softly toward zero drift (WorldDef::jointHertz), in its relax pass without bias,
 // warm started with the impulses of the substep before. The locked rows (up to six) are solved
 // together as one block, exactly, so a ball joint's three directions or a weld's six do not
-// fight each other as row-by-row passes would; a limit is one more row that only pushes. The
-// rows are built each time from the bodies' current poses.
+// fight each other as row-by-row passes would; a limit (only pushing) or a motor (within its
+// force) is one more row of it. The rows are built each time from the bodies' current poses.
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -107,9 +107,8 @@ JointRows jointRows(const Joint& j, const Vec3& comA, const Quat& qA, const Vec3
 }
 
 // The two bodies as the solve has them, with their inverse inertias at their current
-// orientations: the solver body's is the step's start's, and a thin link that turns a third of
-// a radian in a step, its tiny inertia about its length pointing elsewhere by then, gained
-// energy from the stale one until a chain whipped about at 30 m/s.
+// orientations (the solver body's is the step's start's, as the contacts use it; with that one a
+// ten-link chain of spinning thin links, swinging in 3D, rose 1.5 % above its starting energy).
 struct JointBodies {
   SolverBody& A;
   SolverBody& B;
