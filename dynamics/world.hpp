@@ -89,6 +89,12 @@ struct JointDef {
   bool enableMotor = false;
   double motorSpeed = 0.0;
   double maxMotorForce = 0.0;
+  // A spring pulls the hinge's angle or the slider's travel toward `springTarget` at
+  // `springHertz` (> 0) with `springDampingRatio` (>= 0), as Box2D's: a door closer.
+  bool enableSpring = false;
+  double springHertz = 0.0;
+  double springDampingRatio = 0.0;
+  double springTarget = 0.0;
   bool collideConnected = false;  // false: the two bodies make no contacts with each other
 };
 

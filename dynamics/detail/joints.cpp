@@ -169,9 +169,11 @@ struct BlockRow {
   double lo = -kInfinity, hi = kInfinity;
 };
 
-// rows[0, n) (unbounded) and rows[n, m) (m <= n + 1: one bounded row at most) solved together:
-// K impulse = -(velocity + bias), softened as the contacts are. Where the bounded row's total
-// would leave its bounds it is held at the bound and the rest solved again with that.
+// rows[0, n) (unbounded, of one softness) and rows[n, m) (m <= n + 1: one row along the axis at
+// most) solved together: K impulse = -(velocity + bias), softened as the contacts are. Where
+// the axis row's total would leave its bounds, or its softness is another (a 1 Hz spring beside
+// the 60 Hz locked rows: scaling the block's solution row by row threw a door on a spring
+// around at 1500 rad/s), its impulse is fixed first and the locked rows solved again with it.
 void solveBlock(const JointBodies& jb, const BlockRow* rows, int n, int m) {
   double K[7][7], rhs[7], x[7], impulse[7] = {};
   for (int r = 0; r < m; ++r) {
@@ -187,7 +189,8 @@ void solveBlock(const JointBodies& jb, const BlockRow* rows, int n, int m) {
   if (m > n) {
     const BlockRow& b = rows[n];
     const double total = *b.accumulated + impulse[n];
-    if (total < b.lo || total > b.hi) {
+    const bool outside = total < b.lo || total > b.hi;
+    if (outside || (n > 0 && b.massScale != rows[0].massScale)) {
       impulse[n] = std::clamp(total, b.lo, b.hi) - *b.accumulated;
       for (int r = 0; r < n; ++r) rhs[r] += K[r][n] * impulse[n];
       impulsesOf(n);
@@ -276,6 +279,7 @@ void World::Impl::warmStartJoints() {
       jb.apply(limitSide(rows, j.upper, -1.0), j.upperImpulse);
     }
     if (j.enableMotor) jb.apply(rows.limit, j.motorImpulse);
+    if (j.enableSpring) jb.apply(rows.limit, j.springImpulse);
   }
 }
 
@@ -287,11 +291,11 @@ void World::Impl::solveJoints(double h, bool useBias) {
     Joint& j = joints[i];
     const auto [jb, rows] = jointNow(j, bodies, solverBodies);
     if (!rows.finite()) continue;
-    // The locked rows as one block with the motor, then with the nearer side of a limit (the
-    // limit has the last word). A limit's torque alone would turn a door about its centre of
-    // mass and the hinge's rows turn it back, so solved apart they stop it inexactly (a door
-    // bounced off its stop at an eighth of its speed); in the block it stops dead. The motor
-    // and the limit act along one axis, so they cannot share a block (K would be singular).
+    // The locked rows as one block with each row along the axis in turn: the spring, the motor,
+    // the nearer side of a limit (which has the last word). A limit's torque alone would turn a
+    // door about its centre of mass and the hinge's rows turn it back, so solved apart they stop
+    // it inexactly (a door bounced off its stop at an eighth of its speed); in the block it
+    // stops dead. The axis rows cannot share a block: they are one row twice (K singular).
     const int n = rows.count;
     BlockRow block[7];
     for (int r = 0; r < n; ++r) {
@@ -304,28 +308,26 @@ void World::Impl::solveJoints(double h, bool useBias) {
       b.bias = std::clamp(soft.biasRate * b.row.error, -cap, cap);
       b.massScale = soft.massScale, b.impulseScale = soft.impulseScale;
     }
+    BlockRow axisRows[3];
+    int axisCount = 0;
+    if (j.enableSpring) {  // soft toward its target, in every pass
+      BlockRow& b = axisRows[axisCount++];
+      b.row = rows.limit, b.accumulated = &j.springImpulse;
+      const detail::Softness spring = detail::makeSoft(j.springHertz, j.springDampingRatio, h);
+      b.bias = spring.biasRate * (rows.position - j.springTarget);
+      b.massScale = spring.massScale, b.impulseScale = spring.impulseScale;
+    }
     if (j.enableMotor) {  // rigid toward its speed, within its force
-      BlockRow& b = block[n];
+      BlockRow& b = axisRows[axisCount++];
       b.row = rows.limit, b.accumulated = &j.motorImpulse;
       b.bias = -j.motorSpeed;
       b.hi = j.maxMotorForce * h, b.lo = -b.hi;
-      if (!j.enableLimit) {
-        solveBlock(jb, block, n, n + 1);
-        continue;
-      }
-      // The limit's block follows and softens the locked rows: here they are only held rigid.
-      BlockRow rigid[7];
-      for (int r = 0; r <= n; ++r) rigid[r] = block[r];
-      for (int r = 0; r < n; ++r)
-        rigid[r].bias = 0.0, rigid[r].massScale = 1.0, rigid[r].impulseScale = 0.0;
-      solveBlock(jb, rigid, n, n + 1);
     }
     if (j.enableLimit) {
       // One side at a time: the other lets go of what it held.
       const bool lowerSide = rows.position - j.lower < j.upper - rows.position;
       double& other = lowerSide ? j.upperImpulse : j.lowerImpulse;
-      BlockRow& b = block[n];
-      b = BlockRow{};
+      BlockRow& b = axisRows[axisCount++];
       b.row = lowerSide ? limitSide(rows, j.lower, 1.0) : limitSide(rows, j.upper, -1.0);
       jb.apply(b.row, other);  // (the other side's row is this one's, negated)
       other = 0.0;
@@ -338,10 +340,21 @@ void World::Impl::solveJoints(double h, bool useBias) {
         b.bias = soft.biasRate * b.row.error, b.massScale = soft.massScale,
         b.impulseScale = soft.impulseScale;
       b.lo = 0.0;
-      solveBlock(jb, block, n, n + 1);
-      continue;
     }
-    solveBlock(jb, block, n, n);
+    if (axisCount == 0) solveBlock(jb, block, n, n);
+    for (int k = 0; k < axisCount; ++k) {
+      block[n] = axisRows[k];
+      if (k + 1 == axisCount) {
+        solveBlock(jb, block, n, n + 1);
+        break;
+      }
+      // A later block softens the locked rows: until then they are only held rigid.
+      BlockRow rigid[7];
+      for (int r = 0; r <= n; ++r) rigid[r] = block[r];
+      for (int r = 0; r < n; ++r)
+        rigid[r].bias = 0.0, rigid[r].massScale = 1.0, rigid[r].impulseScale = 0.0;
+      solveBlock(jb, rigid, n, n + 1);
+    }
   }
 }
 
@@ -409,6 +422,13 @@ JointId World::createJoint(const JointDef& d) {
     requireFinite(d.motorSpeed, "JointDef.motorSpeed");
     requireNonNegative(d.maxMotorForce, "JointDef.maxMotorForce");
   }
+  if (d.enableSpring) {
+    if (d.type != JointType::Hinge && d.type != JointType::Slider)
+      throw Error("JointDef.enableSpring", "only hinges and sliders have springs");
+    requirePositive(d.springHertz, "JointDef.springHertz");
+    requireNonNegative(d.springDampingRatio, "JointDef.springDampingRatio");
+    requireFinite(d.springTarget, "JointDef.springTarget");
+  }
 
   Joint j;
   j.alive = true;
@@ -423,6 +443,8 @@ JointId World::createJoint(const JointDef& d) {
   j.enableLimit = d.enableLimit, j.collideConnected = d.collideConnected;
   j.lower = d.lower, j.upper = d.upper;
   j.enableMotor = d.enableMotor, j.motorSpeed = d.motorSpeed, j.maxMotorForce = d.maxMotorForce;
+  j.enableSpring = d.enableSpring, j.springHertz = d.springHertz;
+  j.springDampingRatio = d.springDampingRatio, j.springTarget = d.springTarget;
 
   uint32_t slot;
   if (!w.freeJointSlots.empty()) {
@@ -503,6 +525,7 @@ Vec3 World::jointForce(JointId id) const {
     impulse += j.upperImpulse * limitSide(rows, j.upper, -1.0).lin;
   }
   if (j.enableMotor) impulse += j.motorImpulse * rows.limit.lin;
+  if (j.enableSpring) impulse += j.springImpulse * rows.limit.lin;
   return impulse / impl_->lastSubstep;
 }
 

@@ -742,7 +742,7 @@ uint64_t World::stateHash() const {
     if (!j.alive) continue;
     h.add(uint64_t(i));
     for (double x : j.impulse) h.add(x);
-    h.add(j.lowerImpulse), h.add(j.upperImpulse), h.add(j.motorImpulse);
+    h.add(j.lowerImpulse), h.add(j.upperImpulse), h.add(j.motorImpulse), h.add(j.springImpulse);
   }
   return h.value();
 }

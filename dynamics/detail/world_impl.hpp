@@ -291,11 +291,12 @@ struct Joint {
   Vec3 localA = Vec3::Zero(), localB = Vec3::Zero();  // the anchor from each centre of mass
   Vec3 axisA = Vec3::UnitY(), axisB = Vec3::UnitY();  // the unit axis in each body's frame
   Quat reference = Quat::Identity();                  // qA^-1 qB when made
-  bool enableLimit = false, collideConnected = false, enableMotor = false;
+  bool enableLimit = false, collideConnected = false, enableMotor = false, enableSpring = false;
   double lower = 0.0, upper = 0.0, motorSpeed = 0.0, maxMotorForce = 0.0;
+  double springHertz = 0.0, springDampingRatio = 0.0, springTarget = 0.0;
   double impulse[6] = {};                         // the locked rows (jointRows' order)
   double lowerImpulse = 0.0, upperImpulse = 0.0;  // the limit's two sides
-  double motorImpulse = 0.0;
+  double motorImpulse = 0.0, springImpulse = 0.0;
   int sa = 0, sb = 0;  // solver indices this step (0: immovable)
 };
 

@@ -29,7 +29,9 @@ json minimal() {
     ],
     "joints": [{"type": "hinge", "a": "floor", "b": "a", "anchor": [0, 1, 0.3], "axis": [0, 0, 2],
                 "limit": [-1, 0.5], "motor": {"speed": 0.5, "maxForce": 2}},
-               {"type": "ball", "a": "b", "b": "c", "anchor": [0, 0, 0], "collideConnected": true}],
+               {"type": "ball", "a": "b", "b": "c", "anchor": [0, 0, 0], "collideConnected": true},
+               {"type": "slider", "a": "floor", "b": "d", "anchor": [0, 0, 0],
+                "spring": {"hertz": 2, "dampingRatio": 0.5, "target": 0.1}}],
     "interaction": {"method": "kinematic", "gamma": 500, "patchSamples": 5, "touchable": [0, 3]},
     "hands": [{"name": "h", "side": "left", "keyframes": [
       {"time": 0, "palm": {"position": [0, 0.5, 0]}, "pose": "pinch"},
@@ -67,7 +69,7 @@ TEST(SceneParse, AValidSceneFillsTheDefs) {
   EXPECT_EQ(s.bodies[2].def.filter.mask, 5u | (uint64_t{1} << 63));
   EXPECT_EQ(s.bodies[2].def.filter.group, -4);
   EXPECT_EQ(s.bodies[1].def.filter.mask, ~uint64_t{0});  // the default: every kind
-  ASSERT_EQ(s.joints.size(), 2u);
+  ASSERT_GE(s.joints.size(), 2u);
   EXPECT_EQ(s.joints[0].def.type, JointType::Hinge);
   EXPECT_EQ(s.joints[0].a, 0);
   EXPECT_EQ(s.joints[0].b, 1);
@@ -82,6 +84,11 @@ TEST(SceneParse, AValidSceneFillsTheDefs) {
   EXPECT_EQ(s.joints[1].def.type, JointType::Ball);
   EXPECT_TRUE(s.joints[1].def.collideConnected);
   EXPECT_FALSE(s.joints[1].def.enableLimit);
+  ASSERT_EQ(s.joints.size(), 3u);
+  EXPECT_TRUE(s.joints[2].def.enableSpring);
+  EXPECT_DOUBLE_EQ(s.joints[2].def.springHertz, 2.0);
+  EXPECT_DOUBLE_EQ(s.joints[2].def.springDampingRatio, 0.5);
+  EXPECT_DOUBLE_EQ(s.joints[2].def.springTarget, 0.1);
   EXPECT_EQ(s.interaction.method, InteractionMethod::Kinematic);
   EXPECT_DOUBLE_EQ(s.interaction.gamma, 500.0);
   EXPECT_EQ(s.interaction.touchable.mask, 9u);
@@ -121,7 +128,12 @@ TEST(SceneParse, ErrorsNameTheJsonPath) {
        "joints[1].motor: only hinges and sliders have motors"},
       {"joints[0].motor.maxForce", "-1", "joints[0].motor.maxForce: must not be negative"},
       {"joints[0].motor.torque", "1", "joints[0].motor.torque: unknown field"},
-      {"joints[1].spring", "1", "joints[1].spring: unknown field"},
+      {"joints[1].spring", "{\"hertz\": 1}",
+       "joints[1].spring: only hinges and sliders have springs"},
+      {"joints[2].spring.hertz", "0", "joints[2].spring.hertz: must be positive"},
+      {"joints[2].spring.dampingRatio", "-1",
+       "joints[2].spring.dampingRatio: must not be negative"},
+      {"joints[2].spring.stiffness", "1", "joints[2].spring.stiffness: unknown field"},
       {"world.substeps", "0", "world.substeps: must be between 1 and 1000"},
       {"world.substeps", "2.5", "world.substeps: must be an integer"},
       {"world.dt", "0.01", "world.dt: give either hz or dt"},

@@ -349,6 +349,13 @@ TEST(Joint, BadDefinitionsNameTheirField) {
   bad("JointDef.enableMotor", [](JointDef& d) { d.type = JointType::Fixed, d.enableMotor = true; });
   bad("JointDef.motorSpeed", [&](JointDef& d) { d.enableMotor = true, d.motorSpeed = nan; });
   bad("JointDef.maxMotorForce", [](JointDef& d) { d.enableMotor = true, d.maxMotorForce = -1; });
+  bad("JointDef.enableSpring",
+      [](JointDef& d) { d.type = JointType::Ball, d.enableSpring = true; });
+  bad("JointDef.springHertz", [](JointDef& d) { d.enableSpring = true; });
+  bad("JointDef.springDampingRatio",
+      [](JointDef& d) { d.enableSpring = true, d.springHertz = 1, d.springDampingRatio = -1; });
+  bad("JointDef.springTarget",
+      [](JointDef& d) { d.enableSpring = true, d.springHertz = 1, d.springTarget = INFINITY; });
   for (const Case& c : cases) {
     try {
       w.createJoint(c.def);
@@ -542,4 +549,36 @@ TEST(Joint, HingeFrictionSlowsADoorAndItsStopHoldsIt) {
     EXPECT_LT(most, 0.5 + 1e-3) << spin;
     EXPECT_LT(std::abs(w.jointSpeed(hinge)), 1e-6) << spin;
   }
+}
+
+// A hinge's spring at 1 Hz swings a weightless door about its target with a period of 1 s; a
+// critically damped one (ratio 1) brings it to a new target 0.5 rad away without overshoot.
+TEST(Joint, AHingeSpringSwingsAtItsFrequency) {
+  WorldDef def;
+  def.gravity = Vec3::Zero();
+  {
+    World w(def);
+    JointDef d = doorHinge(w);
+    d.enableSpring = true, d.springHertz = 1.0;
+    const JointId hinge = w.createJoint(d);
+    w.setAngularVelocity(d.b, Vec3(0.0, 1.0, 0.0));  // about the hinge
+    w.setLinearVelocity(d.b, Vec3(0.0, 1.0, 0.0).cross(Vec3(0.4, 0.0, 0.0)));
+    std::vector<double> angle;
+    for (int i = 0; i < 300; ++i) {
+      w.step(kDt);
+      angle.push_back(w.jointPosition(hinge));
+    }
+    EXPECT_NEAR(meanPeriod(angle, kDt), 1.0, 0.02);
+  }
+  World w(def);
+  JointDef d = doorHinge(w);
+  d.enableSpring = true, d.springHertz = 1.0, d.springDampingRatio = 1.0, d.springTarget = 0.5;
+  const JointId hinge = w.createJoint(d);
+  double most = 0.0;
+  for (int i = 0; i < 240; ++i) {
+    w.step(kDt);
+    most = std::max(most, w.jointPosition(hinge));
+  }
+  EXPECT_LT(most, 0.5 + 1e-3);
+  EXPECT_NEAR(w.jointPosition(hinge), 0.5, 2e-3);
 }

@@ -673,7 +673,8 @@ int bodyByName(const json& j, const std::string& path, const Scene& s) {
 }
 
 JointSpec parseJoint(const json& j, const std::string& path, const Scene& s) {
-  object(j, path, {"type", "a", "b", "anchor", "axis", "limit", "motor", "collideConnected"});
+  object(j, path,
+         {"type", "a", "b", "anchor", "axis", "limit", "motor", "spring", "collideConnected"});
   JointSpec js;
   JointDef& d = js.def;
   d.type = static_cast<JointType>(choice(required(j, path, "type"), key(path, "type"),
@@ -704,6 +705,17 @@ JointSpec parseJoint(const json& j, const std::string& path, const Scene& s) {
     d.enableMotor = true;
     opt(v, p, "speed", [&](const json& x, const std::string& xp) { d.motorSpeed = number(x, xp); });
     d.maxMotorForce = nonNegative(required(v, p, "maxForce"), key(p, "maxForce"));
+  });
+  opt(j, path, "spring", [&](const json& v, const std::string& p) {
+    if (d.type != JointType::Hinge && d.type != JointType::Slider)
+      fail(p, "only hinges and sliders have springs");
+    object(v, p, {"hertz", "dampingRatio", "target"});
+    d.enableSpring = true;
+    d.springHertz = positive(required(v, p, "hertz"), key(p, "hertz"));
+    opt(v, p, "dampingRatio",
+        [&](const json& x, const std::string& xp) { d.springDampingRatio = nonNegative(x, xp); });
+    opt(v, p, "target",
+        [&](const json& x, const std::string& xp) { d.springTarget = number(x, xp); });
   });
   opt(j, path, "collideConnected",
       [&](const json& v, const std::string& p) { d.collideConnected = boolean(v, p); });
