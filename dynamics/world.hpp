@@ -72,6 +72,11 @@ using JointId = Id<JointTag>;
 //   Hinge   a door's hinge: a ball joint that turns about the axis only.
 //   Slider  a drawer's rail: b slides along the axis, neither turns against the other.
 enum class JointType : uint8_t { Fixed, Ball, Hinge, Slider };
+// Hinges and sliders have a position along their axis (an angle, a travel), and so limits,
+// motors and springs.
+inline bool hasAxisPosition(JointType t) {
+  return t == JointType::Hinge || t == JointType::Slider;
+}
 
 struct JointDef {
   JointType type = JointType::Ball;

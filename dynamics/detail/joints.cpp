@@ -136,6 +136,19 @@ JointRow limitSide(const JointRows& rows, double bound, double side) {
   return r;
 }
 
+// each(row, impulse) for every row of the joint and the accumulated impulse it holds: the locked
+// rows, the limit's two sides, the motor, the spring (the warm start, jointForce).
+template <class Each>
+void forEachHeld(const Joint& j, const JointRows& rows, const Each& each) {
+  for (int k = 0; k < rows.count; ++k) each(rows.locked[k], j.impulse[k]);
+  if (j.enableLimit) {
+    each(limitSide(rows, j.lower, 1.0), j.lowerImpulse);
+    each(limitSide(rows, j.upper, -1.0), j.upperImpulse);
+  }
+  if (j.enableMotor) each(rows.limit, j.motorImpulse);
+  if (j.enableSpring) each(rows.limit, j.springImpulse);
+}
+
 // x = K^-1 b for the leading m x m block of a symmetric positive definite K (Cholesky: the
 // block is at most 7 rows, and a ball joint's 3; a fixed-size 7 x 7 solve was a third of a
 // chain's step).
@@ -271,15 +284,10 @@ std::pair<JointBodies, JointRows> jointNow(const Joint& j, const std::vector<Bod
 void World::Impl::warmStartJoints() {
   for (uint32_t i : solvedJoints) {
     Joint& j = joints[i];
-    const auto [jb, rows] = jointNow(j, bodies, solverBodies);
-    if (!rows.finite()) continue;
-    for (int k = 0; k < rows.count; ++k) jb.apply(rows.locked[k], j.impulse[k]);
-    if (j.enableLimit) {
-      jb.apply(limitSide(rows, j.lower, 1.0), j.lowerImpulse);
-      jb.apply(limitSide(rows, j.upper, -1.0), j.upperImpulse);
-    }
-    if (j.enableMotor) jb.apply(rows.limit, j.motorImpulse);
-    if (j.enableSpring) jb.apply(rows.limit, j.springImpulse);
+    const auto now = jointNow(j, bodies, solverBodies);  // (not bound: a lambda uses it)
+    const JointBodies& jb = now.first;
+    if (!now.second.finite()) continue;
+    forEachHeld(j, now.second, [&](const JointRow& r, double impulse) { jb.apply(r, impulse); });
   }
 }
 
@@ -410,20 +418,20 @@ JointId World::createJoint(const JointDef& d) {
   if (d.enableLimit) {
     requireFinite(d.lower, "JointDef.lower");
     requireFinite(d.upper, "JointDef.upper");
-    if (d.type != JointType::Hinge && d.type != JointType::Slider)
+    if (!hasAxisPosition(d.type))
       throw Error("JointDef.enableLimit", "only hinges and sliders have limits");
     if (d.lower > d.upper) throw Error("JointDef.lower", "must not exceed upper");
     if (d.type == JointType::Hinge && (d.lower < -kPi || d.upper > kPi))
       throw Error(d.lower < -kPi ? "JointDef.lower" : "JointDef.upper", "must be within [-pi, pi]");
   }
   if (d.enableMotor) {
-    if (d.type != JointType::Hinge && d.type != JointType::Slider)
+    if (!hasAxisPosition(d.type))
       throw Error("JointDef.enableMotor", "only hinges and sliders have motors");
     requireFinite(d.motorSpeed, "JointDef.motorSpeed");
     requireNonNegative(d.maxMotorForce, "JointDef.maxMotorForce");
   }
   if (d.enableSpring) {
-    if (d.type != JointType::Hinge && d.type != JointType::Slider)
+    if (!hasAxisPosition(d.type))
       throw Error("JointDef.enableSpring", "only hinges and sliders have springs");
     requirePositive(d.springHertz, "JointDef.springHertz");
     requireNonNegative(d.springDampingRatio, "JointDef.springDampingRatio");
@@ -486,7 +494,7 @@ JointType World::jointType(JointId id) const {
 
 double World::jointPosition(JointId id) const {
   const Joint& j = jointOf(impl_->joints, id, "jointPosition.id");
-  if (j.type != JointType::Hinge && j.type != JointType::Slider)
+  if (!hasAxisPosition(j.type))
     throw Error("jointPosition.id", "only hinges and sliders have a position");
   const Body &A = impl_->bodies[j.a], &B = impl_->bodies[j.b];
   return jointRows(j, A.com, A.pose.q, B.com, B.pose.q).position;
@@ -494,7 +502,7 @@ double World::jointPosition(JointId id) const {
 
 double World::jointSpeed(JointId id) const {
   const Joint& j = jointOf(impl_->joints, id, "jointSpeed.id");
-  if (j.type != JointType::Hinge && j.type != JointType::Slider)
+  if (!hasAxisPosition(j.type))
     throw Error("jointSpeed.id", "only hinges and sliders have a position");
   const Body &A = impl_->bodies[j.a], &B = impl_->bodies[j.b];
   const JointRow r = jointRows(j, A.com, A.pose.q, B.com, B.pose.q).limit;
@@ -503,7 +511,7 @@ double World::jointSpeed(JointId id) const {
 
 void World::setJointMotor(JointId id, bool enable, double speed, double maxForce) {
   const Joint& found = jointOf(impl_->joints, id, "setJointMotor.id");
-  if (found.type != JointType::Hinge && found.type != JointType::Slider)
+  if (!hasAxisPosition(found.type))
     throw Error("setJointMotor.id", "only hinges and sliders have motors");
   requireFinite(speed, "setJointMotor.speed");
   requireNonNegative(maxForce, "setJointMotor.maxForce");
@@ -519,13 +527,7 @@ Vec3 World::jointForce(JointId id) const {
   const Body &A = impl_->bodies[j.a], &B = impl_->bodies[j.b];
   const JointRows rows = jointRows(j, A.com, A.pose.q, B.com, B.pose.q);
   Vec3 impulse = Vec3::Zero();
-  for (int k = 0; k < rows.count; ++k) impulse += j.impulse[k] * rows.locked[k].lin;
-  if (j.enableLimit) {
-    impulse += j.lowerImpulse * limitSide(rows, j.lower, 1.0).lin;
-    impulse += j.upperImpulse * limitSide(rows, j.upper, -1.0).lin;
-  }
-  if (j.enableMotor) impulse += j.motorImpulse * rows.limit.lin;
-  if (j.enableSpring) impulse += j.springImpulse * rows.limit.lin;
+  forEachHeld(j, rows, [&](const JointRow& r, double held) { impulse += held * r.lin; });
   return impulse / impl_->lastSubstep;
 }
 

@@ -689,8 +689,7 @@ JointSpec parseJoint(const json& j, const std::string& path, const Scene& s) {
   d.anchor = vec3(required(j, path, "anchor"), key(path, "anchor"));
   opt(j, path, "axis", [&](const json& v, const std::string& p) { d.axis = direction(v, p); });
   opt(j, path, "limit", [&](const json& v, const std::string& p) {
-    if (d.type != JointType::Hinge && d.type != JointType::Slider)
-      fail(p, "only hinges and sliders have limits");
+    if (!hasAxisPosition(d.type)) fail(p, "only hinges and sliders have limits");
     if (!v.is_array() || v.size() != 2) fail(p, "must be [lower, upper]");
     d.enableLimit = true;
     d.lower = number(v[0], index(p, 0)), d.upper = number(v[1], index(p, 1));
@@ -699,16 +698,14 @@ JointSpec parseJoint(const json& j, const std::string& path, const Scene& s) {
       fail(p, "a hinge's limits must be within [-pi, pi] rad");
   });
   opt(j, path, "motor", [&](const json& v, const std::string& p) {
-    if (d.type != JointType::Hinge && d.type != JointType::Slider)
-      fail(p, "only hinges and sliders have motors");
+    if (!hasAxisPosition(d.type)) fail(p, "only hinges and sliders have motors");
     object(v, p, {"speed", "maxForce"});
     d.enableMotor = true;
     opt(v, p, "speed", [&](const json& x, const std::string& xp) { d.motorSpeed = number(x, xp); });
     d.maxMotorForce = nonNegative(required(v, p, "maxForce"), key(p, "maxForce"));
   });
   opt(j, path, "spring", [&](const json& v, const std::string& p) {
-    if (d.type != JointType::Hinge && d.type != JointType::Slider)
-      fail(p, "only hinges and sliders have springs");
+    if (!hasAxisPosition(d.type)) fail(p, "only hinges and sliders have springs");
     object(v, p, {"hertz", "dampingRatio", "target"});
     d.enableSpring = true;
     d.springHertz = positive(required(v, p, "hertz"), key(p, "hertz"));
