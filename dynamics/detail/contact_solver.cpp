@@ -800,6 +800,7 @@ void World::Impl::solve(double dt) {
 
   setUpSolverBodies();
   prepareJoints();
+  frameJoints();
   prepareContacts();
   computeLevels();
   // The shock order within each region (ground up), then across.
@@ -914,6 +915,7 @@ void World::Impl::solve(double dt) {
       relax(r);
     });
     relax(kAcross);
+    frameJoints();  // the positions moved; the next substep's warm start shares this frame
     solveJoints(h, false);
     // The load pass, from the top down: a body resting on one support alone takes back the
     // reactions the shock passes held from it (the loads of the bodies above), and where that

@@ -4,7 +4,8 @@
 // warm started with the impulses of the substep before. The locked rows (up to six) are solved
 // together as one block, exactly, so a ball joint's three directions or a weld's six do not
 // fight each other as row-by-row passes would; a limit (only pushing) or a motor (within its
-// force) is one more row of it. The rows are built each time from the bodies' current poses.
+// force) is one more row of it. The rows, their coupling and its factor are built each time
+// the positions move (frameJoints) and shared by the solves until the next move.
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -15,33 +16,22 @@ namespace grip {
 
 using detail::Body;
 using detail::Joint;
+using detail::JointFrame;
+using detail::JointPose;
+using detail::JointRow;
+using detail::JointRows;
 using detail::SolverBody;
+
+bool detail::JointRows::finite() const {
+  double sum = std::abs(limit.error) + limit.angA.squaredNorm() + limit.angB.squaredNorm();
+  for (int k = 0; k < count; ++k)
+    sum += std::abs(locked[k].error) + locked[k].angA.squaredNorm() + locked[k].angB.squaredNorm();
+  return std::isfinite(sum);
+}
 
 namespace {
 
 constexpr double kInfinity = std::numeric_limits<double>::infinity();
-
-// velocity = lin.(vB - vA) + angB.wB - angA.wA; `error` is its position (drift).
-struct JointRow {
-  Vec3 lin = Vec3::Zero(), angA = Vec3::Zero(), angB = Vec3::Zero();
-  double error = 0.0;
-};
-
-// A joint's rows for the bodies at (comA, qA) and (comB, qB).
-struct JointRows {
-  int count = 0;
-  JointRow locked[6];
-  JointRow limit;         // along +axis: its velocity opens the hinge or the slider
-  double position = 0.0;  // the hinge's angle or the slider's translation
-  // False for bodies so far apart (1e150 m) that the arms overflow: such a joint holds nothing
-  // rather than turning the bodies' velocities into NaN.
-  bool finite() const {
-    double sum = std::abs(limit.error) + limit.angA.norm() + limit.angB.norm();
-    for (int k = 0; k < count; ++k)
-      sum += std::abs(locked[k].error) + locked[k].angA.norm() + locked[k].angB.norm();
-    return std::isfinite(sum);
-  }
-};
 
 // The rotation vector of q (axis times angle, the angle in [0, pi]).
 Vec3 rotationVector(Quat q) {
@@ -51,12 +41,21 @@ Vec3 rotationVector(Quat q) {
   return (2.0 * std::atan2(s, q.w()) / s) * q.vec();
 }
 
-JointRows jointRows(const Joint& j, const Vec3& comA, const Quat& qA, const Vec3& comB,
-                    const Quat& qB) {
-  JointRows out;
-  const Vec3 rA = qA * j.localA, rB = qB * j.localB;
-  const Vec3 d = (comB + rB) - (comA + rA);  // anchor on b from anchor on a
-  const Vec3 axis = qA * j.axisA;
+// A body's pose between steps (the public calls; the solve has its own: frameJoints).
+JointPose poseOf(const Body& b) {
+  JointPose p;
+  p.com = b.com, p.q = b.pose.q, p.R = b.pose.q.toRotationMatrix();
+  return p;
+}
+
+// The joint's rows for its bodies at poses a and b, into `out` (its dwA, dwB left zero).
+void jointRows(const Joint& j, const JointPose& pa, const JointPose& pb, JointRows& out) {
+  out.count = 0, out.limit = JointRow{}, out.position = 0.0;
+  const Quat &qA = pa.q, &qB = pb.q;
+  const Vec3 rA = pa.R * j.localA, rB = pb.R * j.localB;
+  const Vec3 d = (pb.com + rB) - (pa.com + rA);  // anchor on b from anchor on a
+  const bool withAxis = hasAxisPosition(j.type);
+  const Vec3 axis = withAxis ? Vec3(pa.R * j.axisA) : Vec3::Zero();
   auto add = [&](const Vec3& lin, const Vec3& angA, const Vec3& angB, double error) {
     out.locked[out.count++] = {lin, angA, angB, error};
   };
@@ -72,7 +71,7 @@ JointRows jointRows(const Joint& j, const Vec3& comA, const Quat& qA, const Vec3
     for (int k = 0; k < 3; ++k) add(Vec3::Zero(), Vec3::Unit(k), Vec3::Unit(k), turn[k]);
   };
   Vec3 t1, t2;
-  tangentBasis(axis, t1, t2);
+  if (withAxis) tangentBasis(axis, t1, t2);
   switch (j.type) {
     case JointType::Fixed:
       lockPoint(), lockTurning();
@@ -83,7 +82,7 @@ JointRows jointRows(const Joint& j, const Vec3& comA, const Quat& qA, const Vec3
     case JointType::Hinge: {
       lockPoint();
       // The two axes stay parallel: a x b is the turn off the axis (to first order).
-      const Vec3 off = axis.cross(qB * j.axisB);
+      const Vec3 off = axis.cross(pb.R * j.axisB);
       add(Vec3::Zero(), t1, t1, t1.dot(off));
       add(Vec3::Zero(), t2, t2, t2.dot(off));
       // The angle: the turn of b relative to a since the joint was made, about a's axis.
@@ -103,35 +102,30 @@ JointRows jointRows(const Joint& j, const Vec3& comA, const Quat& qA, const Vec3
       break;
     }
   }
-  return out;
 }
 
-// The two bodies as the solve has them, with their inverse inertias at their current
-// orientations (the solver body's is the step's start's, as the contacts use it; with that one a
-// ten-link chain of spinning thin links, swinging in 3D, rose 1.5 % above its starting energy).
+// The joint's two bodies as the solve has them; a row's impulse turns them by its dwA and dwB.
 struct JointBodies {
   SolverBody& A;
   SolverBody& B;
-  Mat3 invIA, invIB;
   double velocity(const JointRow& r) const {
     return r.lin.dot(B.v - A.v) + r.angB.dot(B.w) - r.angA.dot(A.w);
   }
-  double mass(const JointRow& r, const JointRow& s) const {
-    return (A.invMass + B.invMass) * r.lin.dot(s.lin) + r.angA.dot(invIA * s.angA) +
-           r.angB.dot(invIB * s.angB);
-  }
-  void apply(const JointRow& r, double impulse) const {
-    const Vec3 dvA = (A.invMass * impulse) * r.lin, dwA = invIA * (impulse * r.angA);
-    const Vec3 dvB = (B.invMass * impulse) * r.lin, dwB = invIB * (impulse * r.angB);
+  // A linear impulse p on b (-p on a) and the turns it and the rows' torques give each body.
+  void apply(const Vec3& p, const Vec3& dwA, const Vec3& dwB) const {
+    const Vec3 dvA = A.invMass * p, dvB = B.invMass * p;
     A.v -= dvA, A.w -= dwA, A.jointV -= dvA, A.jointW -= dwA;
     B.v += dvB, B.w += dwB, B.jointV += dvB, B.jointW += dwB;
+  }
+  void apply(const JointRow& r, double impulse) const {
+    apply(impulse * r.lin, impulse * r.dwA, impulse * r.dwB);
   }
 };
 
 // The limit's row for one side: lower (+1) keeps position >= lower, upper (-1) position <= upper.
 JointRow limitSide(const JointRows& rows, double bound, double side) {
   JointRow r = rows.limit;
-  r.lin *= side, r.angA *= side, r.angB *= side;
+  r.lin *= side, r.angA *= side, r.angB *= side, r.dwA *= side, r.dwB *= side;
   r.error = side * (rows.position - bound);
   return r;
 }
@@ -149,63 +143,75 @@ void forEachHeld(const Joint& j, const JointRows& rows, const Each& each) {
   if (j.enableSpring) each(rows.limit, j.springImpulse);
 }
 
-// x = K^-1 b for the leading m x m block of a symmetric positive definite K (Cholesky: the
-// block is at most 7 rows, and a ball joint's 3; a fixed-size 7 x 7 solve was a third of a
-// chain's step).
-void solveSymmetric(const double (&K)[7][7], const double (&b)[7], int m, double (&x)[7]) {
-  double L[7][7];
+// The Cholesky factor of K's leading m x m block (m <= 7: a fixed-size 7 x 7 Eigen solve was
+// a third of a chain's step); false if the block is not positive definite.
+bool factor(JointFrame& f, int m) {
   for (int i = 0; i < m; ++i) {
-    for (int j = 0; j <= i; ++j) {
-      double sum = K[i][j];
-      for (int k = 0; k < j; ++k) sum -= L[i][k] * L[j][k];
-      L[i][j] = i == j ? std::sqrt(sum) : sum / L[j][j];
+    for (int j = 0; j < i; ++j) {
+      double sum = f.K[i][j];
+      for (int k = 0; k < j; ++k) sum -= f.L[i][k] * f.L[j][k];
+      f.L[i][j] = sum * f.inv[j];
     }
+    double sum = f.K[i][i];
+    for (int k = 0; k < i; ++k) sum -= f.L[i][k] * f.L[i][k];
+    if (!(sum > 0.0)) return false;
+    f.inv[i] = 1.0 / std::sqrt(sum);
   }
+  return true;
+}
+
+// x = K^-1 b for K's leading m x m block, its row n (the axis row) times `sign` (a limit's
+// upper side is the axis row negated: its factor row is the axis row's negated, exactly).
+void substitute(const JointFrame& f, int n, int m, double sign, const double* b, double* x) {
+  auto l = [&](int i, int k) { return i == n ? sign * f.L[i][k] : f.L[i][k]; };
   for (int i = 0; i < m; ++i) {  // L y = b
     double sum = b[i];
-    for (int k = 0; k < i; ++k) sum -= L[i][k] * x[k];
-    x[i] = sum / L[i][i];
+    for (int k = 0; k < i; ++k) sum -= l(i, k) * x[k];
+    x[i] = sum * f.inv[i];
   }
   for (int i = m - 1; i >= 0; --i) {  // L^T x = y
     double sum = x[i];
-    for (int k = i + 1; k < m; ++k) sum -= L[k][i] * x[k];
-    x[i] = sum / L[i][i];
+    for (int k = i + 1; k < m; ++k) sum -= l(k, i) * x[k];
+    x[i] = sum * f.inv[i];
   }
 }
 
 // One row of a joint's block: what its velocity is pulled toward (minus the bias), how softly,
-// and the bounds of its accumulated impulse.
+// and the bounds of its accumulated impulse; `sign` -1 for the axis row negated (a limit's
+// upper side).
 struct BlockRow {
-  JointRow row;
+  const JointRow* row = nullptr;
   double* accumulated = nullptr;
   double bias = 0.0, massScale = 1.0, impulseScale = 0.0;
   double lo = -kInfinity, hi = kInfinity;
+  double sign = 1.0;
 };
 
-// rows[0, n) (unbounded, of one softness) and rows[n, m) (m <= n + 1: one row along the axis at
-// most) solved together: K impulse = -(velocity + bias), softened as the contacts are. Where
-// the axis row's total would leave its bounds, or its softness is another (a 1 Hz spring beside
-// the 60 Hz locked rows: scaling the block's solution row by row threw a door on a spring
-// around at 1500 rad/s), its impulse is fixed first and the locked rows solved again with it.
-void solveBlock(const JointBodies& jb, const BlockRow* rows, int n, int m) {
-  double K[7][7], rhs[7], x[7], impulse[7] = {};
-  for (int r = 0; r < m; ++r) {
-    for (int c = 0; c <= r; ++c) K[r][c] = K[c][r] = jb.mass(rows[r].row, rows[c].row);
-    rhs[r] = jb.velocity(rows[r].row) + rows[r].bias;
-  }
+// The n locked rows (unbounded, of one softness) and the axis row if any solved together:
+// K impulse = -(velocity + bias), softened as the contacts are. Where the axis row's total would
+// leave its bounds, or its softness is another (a 1 Hz spring beside the 60 Hz locked rows:
+// scaling the block's solution row by row threw a door on a spring around at 1500 rad/s), its
+// impulse is fixed first and the locked rows solved again with it.
+void solveBlock(const JointBodies& jb, const JointFrame& f, const BlockRow* rows, int n,
+                const BlockRow* axis) {
+  const int m = axis ? n + 1 : n;
+  const double sign = axis ? axis->sign : 1.0;
+  double rhs[7], x[7], impulse[7];
+  for (int r = 0; r < n; ++r) rhs[r] = jb.velocity(*rows[r].row) + rows[r].bias;
+  if (axis) rhs[n] = jb.velocity(*axis->row) + axis->bias;
+  auto row = [&](int r) -> const BlockRow& { return r < n ? rows[r] : *axis; };
   auto impulsesOf = [&](int count) {
-    solveSymmetric(K, rhs, count, x);
+    substitute(f, n, count, sign, rhs, x);
     for (int r = 0; r < count; ++r)
-      impulse[r] = -rows[r].massScale * x[r] - rows[r].impulseScale * *rows[r].accumulated;
+      impulse[r] = -row(r).massScale * x[r] - row(r).impulseScale * *row(r).accumulated;
   };
   impulsesOf(m);
-  if (m > n) {
-    const BlockRow& b = rows[n];
-    const double total = *b.accumulated + impulse[n];
-    const bool outside = total < b.lo || total > b.hi;
-    if (outside || (n > 0 && b.massScale != rows[0].massScale)) {
-      impulse[n] = std::clamp(total, b.lo, b.hi) - *b.accumulated;
-      for (int r = 0; r < n; ++r) rhs[r] += K[r][n] * impulse[n];
+  if (axis) {
+    const double total = *axis->accumulated + impulse[n];
+    const bool outside = total < axis->lo || total > axis->hi;
+    if (outside || axis->massScale != rows[0].massScale) {
+      impulse[n] = std::clamp(total, axis->lo, axis->hi) - *axis->accumulated;
+      for (int r = 0; r < n; ++r) rhs[r] += sign * f.K[r][n] * impulse[n];
       impulsesOf(n);
     }
   }
@@ -213,10 +219,13 @@ void solveBlock(const JointBodies& jb, const BlockRow* rows, int n, int m) {
   double size = 0.0;
   for (int r = 0; r < m; ++r) size += std::abs(impulse[r]);
   if (!std::isfinite(size)) return;
+  Vec3 p = Vec3::Zero(), dwA = Vec3::Zero(), dwB = Vec3::Zero();
   for (int r = 0; r < m; ++r) {
-    *rows[r].accumulated += impulse[r];
-    jb.apply(rows[r].row, impulse[r]);
+    *row(r).accumulated += impulse[r];
+    const JointRow& jr = *row(r).row;
+    p += impulse[r] * jr.lin, dwA += impulse[r] * jr.dwA, dwB += impulse[r] * jr.dwB;
   }
+  jb.apply(p, dwA, dwB);
 }
 
 }  // namespace
@@ -253,30 +262,53 @@ void World::Impl::prepareJoints() {
   }
 }
 
-namespace {
-// Where the solve has a body now: its pose at the step's start moved by the solver body.
-struct Pose {
-  Vec3 com;
-  Quat q;
-  Pose(const Body& b, const SolverBody& s) : com(b.com + s.dp), q(s.dq * b.pose.q) {}
-};
-Mat3 inverseInertia(const Body& b, const SolverBody& s, const Quat& q) {
-  if (s.invMass == 0.0) return Mat3::Zero();  // static, kinematic or asleep: immovable
-  const Mat3 R = q.toRotationMatrix();
-  return R * b.invInertiaLocal * R.transpose();
+// The solved joints' rows where the bodies are now. Positions move only where the solve
+// integrates them, so one frame serves a substep's warm start and biased pass (its positions
+// are the last relax pass's); each body's pose and inverse inertia are found once a frame, however
+// many joints it has.
+void World::Impl::frameJoints() {
+  if (solvedJoints.empty()) return;
+  if (jointPoses.size() < bodies.size()) jointPoses.resize(bodies.size());
+  const uint32_t stamp = ++jointFrameStamp;
+  // Where the solve has a body now: its pose at the step's start moved by the solver body.
+  auto place = [&](uint32_t slot, const SolverBody& s) -> const JointPose& {
+    JointPose& p = jointPoses[slot];
+    if (p.stamp == stamp) return p;
+    const Body& b = bodies[slot];
+    p.com = b.com + s.dp, p.q = s.dq * b.pose.q, p.R = p.q.toRotationMatrix();
+    // Static, kinematic or asleep: immovable. (The solver body's inverse inertia is the step's
+    // start's, as the contacts use it; with that one a ten-link chain of spinning thin links,
+    // swinging in 3D, rose 1.5 % above its starting energy.)
+    p.invI = s.invMass == 0.0 ? Mat3::Zero() : Mat3(p.R * b.invInertiaLocal * p.R.transpose());
+    p.stamp = stamp;
+    return p;
+  };
+  for (uint32_t i : solvedJoints) {
+    Joint& j = joints[i];
+    const SolverBody& A = solverBodies[static_cast<size_t>(j.sa)];
+    const SolverBody& B = solverBodies[static_cast<size_t>(j.sb)];
+    const JointPose &pa = place(j.a, A), &pb = place(j.b, B);
+    JointFrame& f = j.frame;
+    jointRows(j, pa, pb, f.rows);
+    f.holds = f.rows.finite();
+    if (!f.holds) continue;
+    auto turns = [&](JointRow& r) { r.dwA = pa.invI * r.angA, r.dwB = pb.invI * r.angB; };
+    for (int k = 0; k < f.rows.count; ++k) turns(f.rows.locked[k]);
+    turns(f.rows.limit);
+    const int n = f.rows.count;
+    const bool axisRow = j.enableSpring || j.enableMotor || j.enableLimit;
+    f.coupled = axisRow ? n + 1 : n;
+    const double invMass = A.invMass + B.invMass;
+    auto rowAt = [&](int r) -> const JointRow& { return r < n ? f.rows.locked[r] : f.rows.limit; };
+    for (int r = 0; r < f.coupled; ++r)
+      for (int c = 0; c <= r; ++c) {
+        const JointRow &x = rowAt(r), &y = rowAt(c);
+        f.K[r][c] = f.K[c][r] = invMass * x.lin.dot(y.lin) + x.angA.dot(y.dwA) + x.angB.dot(y.dwB);
+      }
+    // (Not positive definite only where K overflowed or a body's inertia is degenerate.)
+    f.holds = factor(f, f.coupled);
+  }
 }
-
-// The joint's bodies and rows where the solve has them now.
-std::pair<JointBodies, JointRows> jointNow(const Joint& j, const std::vector<Body>& bodies,
-                                           std::vector<SolverBody>& solverBodies) {
-  SolverBody& A = solverBodies[static_cast<size_t>(j.sa)];
-  SolverBody& B = solverBodies[static_cast<size_t>(j.sb)];
-  const Body &a = bodies[j.a], &b = bodies[j.b];
-  const Pose pa(a, A), pb(b, B);
-  return {JointBodies{A, B, inverseInertia(a, A, pa.q), inverseInertia(b, B, pb.q)},
-          jointRows(j, pa.com, pa.q, pb.com, pb.q)};
-}
-}  // namespace
 
 // Each substep starts with the impulses the joints ended the last one with (the last step's
 // for the first), applied at the arms the bodies have now (Box2D's warm start; the contacts'
@@ -284,10 +316,10 @@ std::pair<JointBodies, JointRows> jointNow(const Joint& j, const std::vector<Bod
 void World::Impl::warmStartJoints() {
   for (uint32_t i : solvedJoints) {
     Joint& j = joints[i];
-    const auto now = jointNow(j, bodies, solverBodies);  // (not bound: a lambda uses it)
-    const JointBodies& jb = now.first;
-    if (!now.second.finite()) continue;
-    forEachHeld(j, now.second, [&](const JointRow& r, double impulse) { jb.apply(r, impulse); });
+    if (!j.frame.holds) continue;
+    const JointBodies jb{solverBodies[static_cast<size_t>(j.sa)],
+                         solverBodies[static_cast<size_t>(j.sb)]};
+    forEachHeld(j, j.frame.rows, [&](const JointRow& r, double impulse) { jb.apply(r, impulse); });
   }
 }
 
@@ -297,72 +329,73 @@ void World::Impl::solveJoints(double h, bool useBias) {
   const detail::Softness soft = detail::makeSoft(hertz, def.jointDampingRatio, h);
   for (uint32_t i : solvedJoints) {
     Joint& j = joints[i];
-    const auto [jb, rows] = jointNow(j, bodies, solverBodies);
-    if (!rows.finite()) continue;
+    if (!j.frame.holds) continue;
+    const JointRows& rows = j.frame.rows;
+    const JointBodies jb{solverBodies[static_cast<size_t>(j.sa)],
+                         solverBodies[static_cast<size_t>(j.sb)]};
     // The locked rows as one block with each row along the axis in turn: the spring, the motor,
     // the nearer side of a limit (which has the last word). A limit's torque alone would turn a
     // door about its centre of mass and the hinge's rows turn it back, so solved apart they stop
     // it inexactly (a door bounced off its stop at an eighth of its speed); in the block it
     // stops dead. The axis rows cannot share a block: they are one row twice (K singular).
     const int n = rows.count;
-    BlockRow block[7];
+    BlockRow block[6];
     for (int r = 0; r < n; ++r) {
       BlockRow& b = block[r];
-      b.row = rows.locked[r], b.accumulated = &j.impulse[r];
+      b.row = &rows.locked[r], b.accumulated = &j.impulse[r];
       if (!useBias) continue;
       // The drift pulled back no faster than the speed limits (a body teleported far from its
       // partner would otherwise be thrown back at any speed, and turn NaN at 1e200 m).
-      const double cap = b.row.lin.isZero() ? def.maxAngularSpeed : def.maxLinearSpeed;
-      b.bias = std::clamp(soft.biasRate * b.row.error, -cap, cap);
+      const double cap = b.row->lin.isZero() ? def.maxAngularSpeed : def.maxLinearSpeed;
+      b.bias = std::clamp(soft.biasRate * b.row->error, -cap, cap);
       b.massScale = soft.massScale, b.impulseScale = soft.impulseScale;
+    }
+    if (!j.enableSpring && !j.enableMotor && !j.enableLimit) {
+      solveBlock(jb, j.frame, block, n, nullptr);
+      continue;
     }
     BlockRow axisRows[3];
     int axisCount = 0;
     if (j.enableSpring) {  // soft toward its target, in every pass
       BlockRow& b = axisRows[axisCount++];
-      b.row = rows.limit, b.accumulated = &j.springImpulse;
+      b.row = &rows.limit, b.accumulated = &j.springImpulse;
       const detail::Softness spring = detail::makeSoft(j.springHertz, j.springDampingRatio, h);
       b.bias = spring.biasRate * (rows.position - j.springTarget);
       b.massScale = spring.massScale, b.impulseScale = spring.impulseScale;
     }
     if (j.enableMotor) {  // rigid toward its speed, within its force
       BlockRow& b = axisRows[axisCount++];
-      b.row = rows.limit, b.accumulated = &j.motorImpulse;
+      b.row = &rows.limit, b.accumulated = &j.motorImpulse;
       b.bias = -j.motorSpeed;
       b.hi = j.maxMotorForce * h, b.lo = -b.hi;
     }
+    JointRow side;
     if (j.enableLimit) {
       // One side at a time: the other lets go of what it held.
       const bool lowerSide = rows.position - j.lower < j.upper - rows.position;
       double& other = lowerSide ? j.upperImpulse : j.lowerImpulse;
-      BlockRow& b = axisRows[axisCount++];
-      b.row = lowerSide ? limitSide(rows, j.lower, 1.0) : limitSide(rows, j.upper, -1.0);
-      jb.apply(b.row, other);  // (the other side's row is this one's, negated)
+      side = lowerSide ? limitSide(rows, j.lower, 1.0) : limitSide(rows, j.upper, -1.0);
+      jb.apply(side, other);  // (the other side's row is this one's, negated)
       other = 0.0;
+      BlockRow& b = axisRows[axisCount++];
+      b.row = &side, b.sign = lowerSide ? 1.0 : -1.0;
       b.accumulated = lowerSide ? &j.lowerImpulse : &j.upperImpulse;
       // Open, it lets the bodies close the gap within the substep and no more (speculative, as
       // Box2D's); once passed, it is soft. It only pushes.
-      if (b.row.error > 0.0)
-        b.bias = b.row.error / h;
+      if (side.error > 0.0)
+        b.bias = side.error / h;
       else if (useBias)
-        b.bias = soft.biasRate * b.row.error, b.massScale = soft.massScale,
+        b.bias = soft.biasRate * side.error, b.massScale = soft.massScale,
         b.impulseScale = soft.impulseScale;
       b.lo = 0.0;
     }
-    if (axisCount == 0) solveBlock(jb, block, n, n);
-    for (int k = 0; k < axisCount; ++k) {
-      block[n] = axisRows[k];
-      if (k + 1 == axisCount) {
-        solveBlock(jb, block, n, n + 1);
-        break;
-      }
-      // A later block softens the locked rows: until then they are only held rigid.
-      BlockRow rigid[7];
-      for (int r = 0; r <= n; ++r) rigid[r] = block[r];
-      for (int r = 0; r < n; ++r)
-        rigid[r].bias = 0.0, rigid[r].massScale = 1.0, rigid[r].impulseScale = 0.0;
-      solveBlock(jb, rigid, n, n + 1);
-    }
+    // A later block softens the locked rows: until then they are only held rigid.
+    BlockRow rigid[6];
+    for (int r = 0; r < n; ++r)
+      rigid[r] = block[r], rigid[r].bias = 0.0, rigid[r].massScale = 1.0,
+      rigid[r].impulseScale = 0.0;
+    for (int k = 0; k < axisCount; ++k)
+      solveBlock(jb, j.frame, k + 1 == axisCount ? block : rigid, n, &axisRows[k]);
   }
 }
 
@@ -496,8 +529,9 @@ double World::jointPosition(JointId id) const {
   const Joint& j = jointOf(impl_->joints, id, "jointPosition.id");
   if (!hasAxisPosition(j.type))
     throw Error("jointPosition.id", "only hinges and sliders have a position");
-  const Body &A = impl_->bodies[j.a], &B = impl_->bodies[j.b];
-  return jointRows(j, A.com, A.pose.q, B.com, B.pose.q).position;
+  JointRows rows;
+  jointRows(j, poseOf(impl_->bodies[j.a]), poseOf(impl_->bodies[j.b]), rows);
+  return rows.position;
 }
 
 double World::jointSpeed(JointId id) const {
@@ -505,7 +539,9 @@ double World::jointSpeed(JointId id) const {
   if (!hasAxisPosition(j.type))
     throw Error("jointSpeed.id", "only hinges and sliders have a position");
   const Body &A = impl_->bodies[j.a], &B = impl_->bodies[j.b];
-  const JointRow r = jointRows(j, A.com, A.pose.q, B.com, B.pose.q).limit;
+  JointRows rows;
+  jointRows(j, poseOf(A), poseOf(B), rows);
+  const JointRow& r = rows.limit;
   return r.lin.dot(B.v - A.v) + r.angB.dot(B.w) - r.angA.dot(A.w);
 }
 
@@ -524,8 +560,8 @@ void World::setJointMotor(JointId id, bool enable, double speed, double maxForce
 Vec3 World::jointForce(JointId id) const {
   const Joint& j = jointOf(impl_->joints, id, "jointForce.id");
   if (impl_->lastSubstep == 0.0) return Vec3::Zero();
-  const Body &A = impl_->bodies[j.a], &B = impl_->bodies[j.b];
-  const JointRows rows = jointRows(j, A.com, A.pose.q, B.com, B.pose.q);
+  JointRows rows;
+  jointRows(j, poseOf(impl_->bodies[j.a]), poseOf(impl_->bodies[j.b]), rows);
   Vec3 impulse = Vec3::Zero();
   forEachHeld(j, rows, [&](const JointRow& r, double held) { impulse += held * r.lin; });
   return impulse / impl_->lastSubstep;

@@ -281,6 +281,49 @@ struct LoadStep {
   Vec3 lowerHeldV = Vec3::Zero(), lowerHeldW = Vec3::Zero();
 };
 
+// One constraint row of a joint: velocity = lin.(vB - vA) + angB.wB - angA.wA, `error` its
+// position (drift); dwA and dwB are the bodies' turn per unit impulse (the inverse inertias
+// times angA and angB, filled where the solve has the bodies: World::Impl::frameJoints).
+struct JointRow {
+  Vec3 lin = Vec3::Zero(), angA = Vec3::Zero(), angB = Vec3::Zero();
+  double error = 0.0;
+  Vec3 dwA = Vec3::Zero(), dwB = Vec3::Zero();
+};
+
+// A joint's rows for its bodies at some pose (joints.cpp: jointRows).
+struct JointRows {
+  int count = 0;
+  JointRow locked[6];
+  JointRow limit;         // along +axis: its velocity opens the hinge or the slider
+  double position = 0.0;  // the hinge's angle or the slider's translation
+  // False for bodies so far apart (1e150 m) that the arms overflow: such a joint holds nothing
+  // rather than turning the bodies' velocities into NaN.
+  bool finite() const;
+};
+
+// A joint's rows and its bodies' inverse inertias where the solve has the bodies now: built
+// once each time the positions move (the step's start, each substep's position update) and
+// shared by the warm start and the passes until the next move.
+struct JointFrame {
+  JointRows rows;
+  bool holds = false;  // the rows are finite (JointRows::finite)
+  // The rows' coupling K = J M^-1 J^T (the locked rows, then the axis row where the joint has
+  // a spring, motor or limit) and its Cholesky factor L (1 / its diagonal in inv), shared by
+  // every solve of the frame: K depends on the poses alone.
+  int coupled = 0;
+  double K[7][7] = {}, L[7][7] = {}, inv[7] = {};
+};
+
+// Where a joined body is (the solve's current pose, or the body's own between steps): its
+// centre of mass, orientation as quaternion and matrix, and inverse inertia in the world;
+// `stamp` tells which frame of the solve filled it (World::Impl::frameJoints).
+struct JointPose {
+  Vec3 com = Vec3::Zero();
+  Quat q = Quat::Identity();
+  Mat3 R = Mat3::Identity(), invI = Mat3::Zero();
+  uint32_t stamp = 0;
+};
+
 // A joint (World::createJoint): what it holds, in the bodies' frames, and the impulses it
 // carries from substep to substep (a substep's accumulated impulses, as the contacts').
 struct Joint {
@@ -298,6 +341,7 @@ struct Joint {
   double lowerImpulse = 0.0, upperImpulse = 0.0;  // the limit's two sides
   double motorImpulse = 0.0, springImpulse = 0.0;
   int sa = 0, sb = 0;  // solver indices this step (0: immovable)
+  JointFrame frame;    // this substep's rows (World::Impl::frameJoints)
 };
 
 struct SensorPair;
@@ -446,6 +490,8 @@ struct World::Impl {
   int jointAliveCount = 0;
   std::vector<uint64_t> jointPairs;
   std::vector<uint32_t> solvedJoints;
+  std::vector<detail::JointPose> jointPoses;  // by body slot, for frameJoints
+  uint32_t jointFrameStamp = 0;
 
   std::vector<ContactEvent> beginEvents, endEvents;
   std::vector<SensorEvent> sensorBegin, sensorEnd;
@@ -491,6 +537,7 @@ struct World::Impl {
   // solve's share, serial after both regions' work.
   void wakeJoinedBodies();
   void prepareJoints();
+  void frameJoints();
   void warmStartJoints();
   void solveJoints(double h, bool useBias);
   void indexJointPairs();
