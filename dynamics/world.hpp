@@ -232,6 +232,10 @@ class World {
   // The force the joint exerted on b over the last step's last substep (N; on a the opposite),
   // as contactForce: a door hanging on two hinges feels its weight in them.
   Vec3 jointForce(JointId id) const;
+  // The torque the joint exerted on b about its anchor over the same substep (N m; on a the
+  // opposite, with jointForce's moment): a hinge's holding torque, a motor's or a spring's along
+  // the axis.
+  Vec3 jointTorque(JointId id) const;
 
   // Advances the world by dt seconds.
   void step(double dt);

@@ -567,4 +567,20 @@ Vec3 World::jointForce(JointId id) const {
   return impulse / impl_->lastSubstep;
 }
 
+Vec3 World::jointTorque(JointId id) const {
+  const Joint& j = jointOf(impl_->joints, id, "jointTorque.id");
+  if (impl_->lastSubstep == 0.0) return Vec3::Zero();
+  const JointPose b = poseOf(impl_->bodies[j.b]);
+  JointRows rows;
+  jointRows(j, poseOf(impl_->bodies[j.a]), b, rows);
+  // A row's angular impulse on b is about b's centre; its linear one's moment there is
+  // arm x lin, which about the anchor is not felt.
+  const Vec3 arm = b.R * j.localB;
+  Vec3 impulse = Vec3::Zero();
+  forEachHeld(j, rows, [&](const JointRow& r, double held) {
+    impulse += held * (r.angB - arm.cross(r.lin));
+  });
+  return impulse / impl_->lastSubstep;
+}
+
 }  // namespace grip

@@ -118,6 +118,12 @@ TEST(Joint, AHingedDoorTurnsAboutItsHingeOnly) {
   const Vec3 held = w.jointForce(hinge);
   EXPECT_NEAR(held.y(), m * kG, 0.005 * m * kG);
   EXPECT_NEAR(held.x(), 0.0, 1e-3 * m * kG);
+  // About its anchor the hinge holds the weight's moment (0.4 m out along x: m g 0.4 about +z)
+  // and nothing about its own axis.
+  const Vec3 torque = w.jointTorque(hinge);
+  EXPECT_NEAR(torque.z(), 0.4 * m * kG, 0.005 * 0.4 * m * kG);
+  EXPECT_NEAR(torque.x(), 0.0, 1e-3 * m * kG);
+  EXPECT_NEAR(torque.y(), 0.0, 1e-6);
 
   const double F = 10.0, arm = 0.8;
   w.addForceAtPosition(door, Vec3(0.0, 0.0, F), Vec3(0.4, 1.0, 0.0));
@@ -306,6 +312,12 @@ TEST(Joint, DestroyingABodyDestroysItsJoints) {
   } catch (const Error& e) {
     EXPECT_EQ(e.field(), "destroyJoint.id");
   }
+  try {
+    w.jointTorque(j);
+    FAIL() << "a stale joint id was accepted";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.field(), "jointTorque.id");
+  }
   for (int i = 0; i < 30; ++i) w.step(kDt);
   // Free, it falls as the substeps integrate gravity (symplectic Euler): g h^2 n (n + 1) / 2.
   const double h = kDt / 4.0, n = 120.0;
@@ -475,6 +487,7 @@ TEST(Joint, AHingeMotorDrivesTheDoorWithinItsTorque) {
   const JointId hinge = w.createJoint(d);
   for (int i = 0; i < 30; ++i) w.step(kDt);
   EXPECT_NEAR(w.jointSpeed(hinge), tau / I * 0.5, 0.01 * tau / I * 0.5);  // still spinning up
+  EXPECT_NEAR(w.jointTorque(hinge).y(), tau, 1e-9);                       // at its full torque
   for (int i = 0; i < 120; ++i) w.step(kDt);
   EXPECT_NEAR(w.jointSpeed(hinge), speed, 1e-6);
   EXPECT_NEAR(w.angularVelocity(door).y(), speed, 1e-6);
