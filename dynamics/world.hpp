@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <span>
@@ -101,6 +102,11 @@ struct JointDef {
   double springDampingRatio = 0.0;
   double springTarget = 0.0;
   bool collideConnected = false;  // false: the two bodies make no contacts with each other
+  // The joint breaks (goes, reported by jointBreakEvents) at the end of a step whose last
+  // substep had it exert more than `breakForce` (N) on b, or more than `breakTorque` (N m)
+  // about its anchor (jointForce, jointTorque); infinity: never (Unity's breakForce).
+  double breakForce = std::numeric_limits<double>::infinity();
+  double breakTorque = std::numeric_limits<double>::infinity();
 };
 
 struct BodyDef {
@@ -171,6 +177,14 @@ struct ContactEvent {
 
 struct SensorEvent {
   BodyId sensor, visitor;
+};
+
+// A joint that broke (JointDef::breakForce, breakTorque): its id (no longer valid), its bodies,
+// and the force and torque it exerted on b when it broke (as jointForce and jointTorque).
+struct JointBreakEvent {
+  JointId joint;
+  BodyId a, b;
+  Vec3 force = Vec3::Zero(), torque = Vec3::Zero();
 };
 
 struct WorldRayHit {
@@ -315,6 +329,7 @@ class World {
   const std::vector<ContactEvent>& contactEndEvents() const;
   const std::vector<SensorEvent>& sensorBeginEvents() const;
   const std::vector<SensorEvent>& sensorEndEvents() const;
+  const std::vector<JointBreakEvent>& jointBreakEvents() const;  // in joint slot order
 
   // Every body id alive, in creation-slot order.
   std::vector<BodyId> bodies() const;

@@ -463,6 +463,11 @@ JointId World::createJoint(const JointDef& d) {
     requireFinite(d.motorSpeed, "JointDef.motorSpeed");
     requireNonNegative(d.maxMotorForce, "JointDef.maxMotorForce");
   }
+  // Positive; infinity (the default) never breaks.
+  if (!(d.breakForce > 0.0))
+    throw Error("JointDef.breakForce", "must be positive (infinity: never breaks)");
+  if (!(d.breakTorque > 0.0))
+    throw Error("JointDef.breakTorque", "must be positive (infinity: never breaks)");
   if (d.enableSpring) {
     if (!hasAxisPosition(d.type))
       throw Error("JointDef.enableSpring", "only hinges and sliders have springs");
@@ -486,6 +491,7 @@ JointId World::createJoint(const JointDef& d) {
   j.enableMotor = d.enableMotor, j.motorSpeed = d.motorSpeed, j.maxMotorForce = d.maxMotorForce;
   j.enableSpring = d.enableSpring, j.springHertz = d.springHertz;
   j.springDampingRatio = d.springDampingRatio, j.springTarget = d.springTarget;
+  j.breakForce = d.breakForce, j.breakTorque = d.breakTorque;
 
   uint32_t slot;
   if (!w.freeJointSlots.empty()) {
@@ -557,30 +563,50 @@ void World::setJointMotor(JointId id, bool enable, double speed, double maxForce
   impl_->wakeBody(j.a), impl_->wakeBody(j.b);
 }
 
+namespace {
+// The force a joint exerted on b over the last substep and its torque about b's anchor: each
+// row's angular impulse on b is about b's centre, where its linear one has the moment
+// arm x lin, which about the anchor is not felt.
+struct Wrench {
+  Vec3 force = Vec3::Zero(), torque = Vec3::Zero();
+};
+Wrench heldWrench(const Joint& j, const std::vector<Body>& bodies, double substep) {
+  if (substep == 0.0) return {};
+  const JointPose b = poseOf(bodies[j.b]);
+  JointRows rows;
+  jointRows(j, poseOf(bodies[j.a]), b, rows);
+  const Vec3 arm = b.R * j.localB;
+  Wrench w;
+  forEachHeld(j, rows, [&](const JointRow& r, double held) {
+    w.force += held * r.lin, w.torque += held * (r.angB - arm.cross(r.lin));
+  });
+  w.force /= substep, w.torque /= substep;
+  return w;
+}
+}  // namespace
+
+// Joints that held more than they can break, in slot order, after the step (so jointForce and
+// jointTorque read then give what broke them).
+void World::Impl::breakJoints() {
+  for (uint32_t i = 0; i < joints.size(); ++i) {
+    const Joint& j = joints[i];
+    if (!j.alive || (std::isinf(j.breakForce) && std::isinf(j.breakTorque))) continue;
+    const Wrench held = heldWrench(j, bodies, lastSubstep);
+    if (!(held.force.norm() > j.breakForce) && !(held.torque.norm() > j.breakTorque)) continue;
+    jointBreaks.push_back(
+        {JointId{i, j.generation}, idOf(j.a), idOf(j.b), held.force, held.torque});
+    releaseJoint(i);
+  }
+}
+
 Vec3 World::jointForce(JointId id) const {
   const Joint& j = jointOf(impl_->joints, id, "jointForce.id");
-  if (impl_->lastSubstep == 0.0) return Vec3::Zero();
-  JointRows rows;
-  jointRows(j, poseOf(impl_->bodies[j.a]), poseOf(impl_->bodies[j.b]), rows);
-  Vec3 impulse = Vec3::Zero();
-  forEachHeld(j, rows, [&](const JointRow& r, double held) { impulse += held * r.lin; });
-  return impulse / impl_->lastSubstep;
+  return heldWrench(j, impl_->bodies, impl_->lastSubstep).force;
 }
 
 Vec3 World::jointTorque(JointId id) const {
   const Joint& j = jointOf(impl_->joints, id, "jointTorque.id");
-  if (impl_->lastSubstep == 0.0) return Vec3::Zero();
-  const JointPose b = poseOf(impl_->bodies[j.b]);
-  JointRows rows;
-  jointRows(j, poseOf(impl_->bodies[j.a]), b, rows);
-  // A row's angular impulse on b is about b's centre; its linear one's moment there is
-  // arm x lin, which about the anchor is not felt.
-  const Vec3 arm = b.R * j.localB;
-  Vec3 impulse = Vec3::Zero();
-  forEachHeld(j, rows, [&](const JointRow& r, double held) {
-    impulse += held * (r.angB - arm.cross(r.lin));
-  });
-  return impulse / impl_->lastSubstep;
+  return heldWrench(j, impl_->bodies, impl_->lastSubstep).torque;
 }
 
 }  // namespace grip

@@ -25,6 +25,7 @@ void World::step(double dt) {
   if (dt == 0.0) return;
   Impl& w = *impl_;
   w.beginEvents.clear(), w.endEvents.clear(), w.sensorBegin.clear(), w.sensorEnd.clear();
+  w.jointBreaks.clear();
   if (w.jointAliveCount > 0) w.wakeJoinedBodies();
   // A body woke: collide again so its island sees its resting contacts (and so on, should
   // that island touch another sleeping one; each round wakes one more island, so it ends).
@@ -36,6 +37,7 @@ void World::step(double dt) {
   w.finishStep();
   w.time += dt;
   w.lastSubstep = dt / w.def.substeps;
+  if (w.jointAliveCount > 0) w.breakJoints();
   ++w.steps;
 }
 

@@ -635,6 +635,9 @@ SurfacePoint World::closestPoint(BodyId id, const Vec3& x) const {
 
 // ---- bookkeeping --------------------------------------------------------------------------
 
+const std::vector<JointBreakEvent>& World::jointBreakEvents() const {
+  return impl_->jointBreaks;
+}
 const std::vector<ContactEvent>& World::contactBeginEvents() const {
   return impl_->beginEvents;
 }

@@ -340,8 +340,9 @@ struct Joint {
   double impulse[6] = {};                         // the locked rows (jointRows' order)
   double lowerImpulse = 0.0, upperImpulse = 0.0;  // the limit's two sides
   double motorImpulse = 0.0, springImpulse = 0.0;
-  int sa = 0, sb = 0;  // solver indices this step (0: immovable)
-  JointFrame frame;    // this substep's rows (World::Impl::frameJoints)
+  double breakForce = 0.0, breakTorque = 0.0;  // JointDef's (infinity: never)
+  int sa = 0, sb = 0;                          // solver indices this step (0: immovable)
+  JointFrame frame;                            // this substep's rows (World::Impl::frameJoints)
 };
 
 struct SensorPair;
@@ -494,6 +495,7 @@ struct World::Impl {
   uint32_t jointFrameStamp = 0;
 
   std::vector<ContactEvent> beginEvents, endEvents;
+  std::vector<JointBreakEvent> jointBreaks;
   std::vector<SensorEvent> sensorBegin, sensorEnd;
   StepStats stats;
   int constraintCount = 0;
@@ -543,6 +545,7 @@ struct World::Impl {
   void indexJointPairs();
   void releaseJoint(uint32_t slot);
   void destroyJointsOf(uint32_t body);
+  void breakJoints();
   void finishStep();
 
   detail::Body& body(BodyId id, const char* field);

@@ -2,6 +2,7 @@
 // JSON path of the bad value; --set overrides edit the document by path.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <string>
 
 #include "scene/scene.hpp"
@@ -29,7 +30,8 @@ json minimal() {
     ],
     "joints": [{"type": "hinge", "a": "floor", "b": "a", "anchor": [0, 1, 0.3], "axis": [0, 0, 2],
                 "limit": [-1, 0.5], "motor": {"speed": 0.5, "maxForce": 2}},
-               {"type": "ball", "a": "b", "b": "c", "anchor": [0, 0, 0], "collideConnected": true},
+               {"type": "ball", "a": "b", "b": "c", "anchor": [0, 0, 0], "collideConnected": true,
+                "breakForce": 50, "breakTorque": 5},
                {"type": "slider", "a": "floor", "b": "d", "anchor": [0, 0, 0],
                 "spring": {"hertz": 2, "dampingRatio": 0.5, "target": 0.1}}],
     "interaction": {"method": "kinematic", "gamma": 500, "patchSamples": 5, "touchable": [0, 3]},
@@ -84,6 +86,9 @@ TEST(SceneParse, AValidSceneFillsTheDefs) {
   EXPECT_EQ(s.joints[1].def.type, JointType::Ball);
   EXPECT_TRUE(s.joints[1].def.collideConnected);
   EXPECT_FALSE(s.joints[1].def.enableLimit);
+  EXPECT_DOUBLE_EQ(s.joints[1].def.breakForce, 50.0);
+  EXPECT_DOUBLE_EQ(s.joints[1].def.breakTorque, 5.0);
+  EXPECT_TRUE(std::isinf(s.joints[0].def.breakForce));  // never, unless given
   ASSERT_EQ(s.joints.size(), 3u);
   EXPECT_TRUE(s.joints[2].def.enableSpring);
   EXPECT_DOUBLE_EQ(s.joints[2].def.springHertz, 2.0);
@@ -134,6 +139,8 @@ TEST(SceneParse, ErrorsNameTheJsonPath) {
       {"joints[2].spring.dampingRatio", "-1",
        "joints[2].spring.dampingRatio: must not be negative"},
       {"joints[2].spring.stiffness", "1", "joints[2].spring.stiffness: unknown field"},
+      {"joints[1].breakForce", "0", "joints[1].breakForce: must be positive (got 0)"},
+      {"joints[1].breakTorque", "\"never\"", "joints[1].breakTorque: must be a number"},
       {"world.substeps", "0", "world.substeps: must be between 1 and 1000"},
       {"world.substeps", "2.5", "world.substeps: must be an integer"},
       {"world.dt", "0.01", "world.dt: give either hz or dt"},

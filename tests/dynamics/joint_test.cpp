@@ -368,6 +368,9 @@ TEST(Joint, BadDefinitionsNameTheirField) {
       [](JointDef& d) { d.enableSpring = true, d.springHertz = 1, d.springDampingRatio = -1; });
   bad("JointDef.springTarget",
       [](JointDef& d) { d.enableSpring = true, d.springHertz = 1, d.springTarget = INFINITY; });
+  bad("JointDef.breakForce", [](JointDef& d) { d.breakForce = 0.0; });
+  bad("JointDef.breakForce", [&](JointDef& d) { d.breakForce = nan; });
+  bad("JointDef.breakTorque", [](JointDef& d) { d.breakTorque = -1.0; });
   for (const Case& c : cases) {
     try {
       w.createJoint(c.def);
@@ -594,4 +597,54 @@ TEST(Joint, AHingeSpringSwingsAtItsFrequency) {
   }
   EXPECT_LT(most, 0.5 + 1e-3);
   EXPECT_NEAR(w.jointPosition(hinge), 0.5, 2e-3);
+}
+
+// A weight on a ball joint that can bear 1.5 times its own weight hangs on; twice as heavy, it
+// breaks the joint in its first step, the event naming the joint, its bodies and the force
+// (its weight), and falls freely from then on. A door whose hinge bears less than its weight's
+// moment about the hinge breaks off; one that bears more stays. Events last one step.
+TEST(Joint, AJointBreaksAboveItsForceOrTorque) {
+  for (double mass : {1.0, 2.0}) {
+    World w;
+    const BodyId support = addStatic(w, Vec3(0.0, 2.0, 0.0));
+    const BodyId bob = addBall(w, 0.05, Vec3(0.0, 1.0, 0.0), mass);
+    JointDef d;
+    d.type = JointType::Ball;
+    d.a = support, d.b = bob;
+    d.anchor = Vec3(0.0, 2.0, 0.0);
+    d.breakForce = 1.5 * kG;
+    const JointId rope = w.createJoint(d);
+    w.step(kDt);
+    if (mass < 1.5) {
+      EXPECT_TRUE(w.jointBreakEvents().empty());
+      for (int i = 0; i < 120; ++i) w.step(kDt);
+      EXPECT_TRUE(w.isValid(rope));
+      EXPECT_NEAR(w.centerOfMass(bob).y(), 1.0, 1e-3);
+      continue;
+    }
+    ASSERT_EQ(w.jointBreakEvents().size(), 1u);
+    const JointBreakEvent& e = w.jointBreakEvents()[0];
+    EXPECT_EQ(e.joint, rope);
+    EXPECT_EQ(e.a, support);
+    EXPECT_EQ(e.b, bob);
+    EXPECT_NEAR(e.force.y(), mass * kG, 0.01 * mass * kG);
+    EXPECT_FALSE(w.isValid(rope));
+    EXPECT_EQ(w.jointCount(), 0);
+    const double y = w.centerOfMass(bob).y();
+    w.step(kDt);
+    EXPECT_TRUE(w.jointBreakEvents().empty());
+    EXPECT_LT(w.centerOfMass(bob).y(), y - 0.5 * kG * kDt * kDt * 0.9);  // falling
+  }
+  const double moment = 0.4 * kDoorMass * kG;
+  for (double bears : {0.8 * moment, 1.2 * moment}) {
+    World w;
+    JointDef d = doorHinge(w);
+    d.breakTorque = bears;
+    const JointId hinge = w.createJoint(d);
+    for (int i = 0; i < 60; ++i) w.step(kDt);
+    EXPECT_EQ(w.isValid(hinge), bears > moment) << bears;
+    if (bears < moment) {
+      EXPECT_LT(w.centerOfMass(d.b).y(), 0.0);  // fell off
+    }
+  }
 }

@@ -674,7 +674,8 @@ int bodyByName(const json& j, const std::string& path, const Scene& s) {
 
 JointSpec parseJoint(const json& j, const std::string& path, const Scene& s) {
   object(j, path,
-         {"type", "a", "b", "anchor", "axis", "limit", "motor", "spring", "collideConnected"});
+         {"type", "a", "b", "anchor", "axis", "limit", "motor", "spring", "collideConnected",
+          "breakForce", "breakTorque"});
   JointSpec js;
   JointDef& d = js.def;
   d.type = static_cast<JointType>(choice(required(j, path, "type"), key(path, "type"),
@@ -716,6 +717,10 @@ JointSpec parseJoint(const json& j, const std::string& path, const Scene& s) {
   });
   opt(j, path, "collideConnected",
       [&](const json& v, const std::string& p) { d.collideConnected = boolean(v, p); });
+  opt(j, path, "breakForce",
+      [&](const json& v, const std::string& p) { d.breakForce = positive(v, p); });
+  opt(j, path, "breakTorque",
+      [&](const json& v, const std::string& p) { d.breakTorque = positive(v, p); });
   return js;
 }
 
