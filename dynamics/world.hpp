@@ -72,11 +72,11 @@ using JointId = Id<JointTag>;
 //   Ball    a ball and socket: the anchor stays one point of both; they turn freely about it.
 //   Hinge   a door's hinge: a ball joint that turns about the axis only.
 //   Slider  a drawer's rail: b slides along the axis, neither turns against the other.
-enum class JointType : uint8_t { Fixed, Ball, Hinge, Slider };
-// Hinges and sliders have a position along their axis (an angle, a travel), and so limits,
-// motors and springs.
+enum class JointType : uint8_t { Fixed, Ball, Hinge, Slider, Distance };
+// Hinges, sliders and distance joints have a position along their axis (an angle, a travel, a
+// stretch), and so limits, motors and springs.
 inline bool hasAxisPosition(JointType t) {
-  return t == JointType::Hinge || t == JointType::Slider;
+  return t == JointType::Hinge || t == JointType::Slider || t == JointType::Distance;
 }
 
 struct JointDef {
@@ -84,9 +84,14 @@ struct JointDef {
   BodyId a = {}, b = {};       // two bodies, at least one dynamic; a may be static or kinematic
   Vec3 anchor = Vec3::Zero();  // world, where the bodies are when the joint is made
   Vec3 axis = Vec3::UnitY();   // world (any length > 0): the hinge's axis, the slider's rail
+  // Distance joints: the anchor on b (world; `anchor` is a's). They keep the anchors at the
+  // distance they start at (a rod); with a limit on the stretch (m, from that distance) they
+  // are a rope ([-length, 0]: slack up to the full length) or a bumper, with a spring a spring
+  // toward springTarget's stretch, with a motor a winch.
+  Vec3 anchorB = Vec3::Zero();
   // Limits on the hinge's angle (rad, b turning about the axis relative to a, within
-  // [-pi, pi]) or the slider's translation (m, b along the axis relative to a), both counted
-  // from the bodies' poses when the joint is made.
+  // [-pi, pi]), the slider's translation (m, b along the axis relative to a) or the distance
+  // joint's stretch (m), all counted from the bodies' poses when the joint is made.
   bool enableLimit = false;
   double lower = 0.0, upper = 0.0;
   // A motor drives the hinge's turn or the slider's travel toward `motorSpeed` (rad/s or m/s,

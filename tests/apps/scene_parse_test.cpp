@@ -33,7 +33,9 @@ json minimal() {
                {"type": "ball", "a": "b", "b": "c", "anchor": [0, 0, 0], "collideConnected": true,
                 "breakForce": 50, "breakTorque": 5},
                {"type": "slider", "a": "floor", "b": "d", "anchor": [0, 0, 0],
-                "spring": {"hertz": 2, "dampingRatio": 0.5, "target": 0.1}}],
+                "spring": {"hertz": 2, "dampingRatio": 0.5, "target": 0.1}},
+               {"type": "distance", "a": "a", "b": "d", "anchor": [0, 1, 0], "anchorB": [0, 0, 0],
+                "limit": [-1, 0]}],
     "interaction": {"method": "kinematic", "gamma": 500, "patchSamples": 5, "touchable": [0, 3]},
     "hands": [{"name": "h", "side": "left", "keyframes": [
       {"time": 0, "palm": {"position": [0, 0.5, 0]}, "pose": "pinch"},
@@ -89,7 +91,10 @@ TEST(SceneParse, AValidSceneFillsTheDefs) {
   EXPECT_DOUBLE_EQ(s.joints[1].def.breakForce, 50.0);
   EXPECT_DOUBLE_EQ(s.joints[1].def.breakTorque, 5.0);
   EXPECT_TRUE(std::isinf(s.joints[0].def.breakForce));  // never, unless given
-  ASSERT_EQ(s.joints.size(), 3u);
+  ASSERT_EQ(s.joints.size(), 4u);
+  EXPECT_EQ(s.joints[3].def.type, JointType::Distance);
+  EXPECT_EQ(s.joints[3].def.anchorB, Vec3::Zero());
+  EXPECT_DOUBLE_EQ(s.joints[3].def.lower, -1.0);
   EXPECT_TRUE(s.joints[2].def.enableSpring);
   EXPECT_DOUBLE_EQ(s.joints[2].def.springHertz, 2.0);
   EXPECT_DOUBLE_EQ(s.joints[2].def.springDampingRatio, 0.5);
@@ -121,24 +126,30 @@ TEST(SceneParse, ErrorsNameTheJsonPath) {
       {"bodies[2].filter.layer", "1", "bodies[2].filter.layer: unknown field"},
       {"bodies[2].filter.group", "0.5", "bodies[2].filter.group: must be an integer"},
       {"interaction.touchable[0]", "-1", "interaction.touchable[0]: must be between 0 and 63"},
-      {"joints[0].type", "\"weld\"", "joints[0].type: must be one of fixed, ball, hinge, slider"},
+      {"joints[0].type", "\"weld\"",
+       "joints[0].type: must be one of fixed, ball, hinge, slider, distance"},
       {"joints[0].b", "\"zz\"", "joints[0].b: unknown body \"zz\""},
       {"joints[0].b", "\"floor\"", "joints[0].b: must be another body than a"},
       {"joints[0].axis", "[0, 0, 0]", "joints[0].axis: must not be the zero vector"},
       {"joints[0].limit", "[1, 0]", "joints[0].limit[0]: must not exceed upper"},
       {"joints[0].limit", "[-4, 0]", "joints[0].limit: a hinge's limits must be within [-pi, pi]"},
-      {"joints[1].limit", "[0, 1]", "joints[1].limit: only hinges and sliders have limits"},
+      {"joints[1].limit", "[0, 1]",
+       "joints[1].limit: only hinges, sliders and distance joints have limits"},
       {"joints[1].anchor", "[0, 1]", "joints[1].anchor: must be an array of 3 numbers"},
       {"joints[1].motor", "{\"maxForce\": 1}",
-       "joints[1].motor: only hinges and sliders have motors"},
+       "joints[1].motor: only hinges, sliders and distance joints have motors"},
       {"joints[0].motor.maxForce", "-1", "joints[0].motor.maxForce: must not be negative"},
       {"joints[0].motor.torque", "1", "joints[0].motor.torque: unknown field"},
       {"joints[1].spring", "{\"hertz\": 1}",
-       "joints[1].spring: only hinges and sliders have springs"},
+       "joints[1].spring: only hinges, sliders and distance joints have springs"},
       {"joints[2].spring.hertz", "0", "joints[2].spring.hertz: must be positive"},
       {"joints[2].spring.dampingRatio", "-1",
        "joints[2].spring.dampingRatio: must not be negative"},
       {"joints[2].spring.stiffness", "1", "joints[2].spring.stiffness: unknown field"},
+      {"joints[1].anchorB", "[0, 1, 0]",
+       "joints[1].anchorB: only distance joints have a second anchor"},
+      {"joints[3].anchorB", "[0, 1, 0]",
+       "joints[3].anchorB: must be apart from anchor (a distance joint's length)"},
       {"joints[1].breakForce", "0", "joints[1].breakForce: must be positive (got 0)"},
       {"joints[1].breakTorque", "\"never\"", "joints[1].breakTorque: must be a number"},
       {"world.substeps", "0", "world.substeps: must be between 1 and 1000"},

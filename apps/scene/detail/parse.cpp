@@ -674,12 +674,13 @@ int bodyByName(const json& j, const std::string& path, const Scene& s) {
 
 JointSpec parseJoint(const json& j, const std::string& path, const Scene& s) {
   object(j, path,
-         {"type", "a", "b", "anchor", "axis", "limit", "motor", "spring", "collideConnected",
-          "breakForce", "breakTorque"});
+         {"type", "a", "b", "anchor", "anchorB", "axis", "limit", "motor", "spring",
+          "collideConnected", "breakForce", "breakTorque"});
   JointSpec js;
   JointDef& d = js.def;
-  d.type = static_cast<JointType>(choice(required(j, path, "type"), key(path, "type"),
-                                         std::array{"fixed", "ball", "hinge", "slider"}));
+  d.type =
+      static_cast<JointType>(choice(required(j, path, "type"), key(path, "type"),
+                                    std::array{"fixed", "ball", "hinge", "slider", "distance"}));
   js.a = bodyByName(required(j, path, "a"), key(path, "a"), s);
   js.b = bodyByName(required(j, path, "b"), key(path, "b"), s);
   if (js.a == js.b) fail(key(path, "b"), "must be another body than a");
@@ -688,9 +689,16 @@ JointSpec parseJoint(const json& j, const std::string& path, const Scene& s) {
   };
   if (!dynamic(js.a) && !dynamic(js.b)) fail(path, "needs a dynamic body (a or b)");
   d.anchor = vec3(required(j, path, "anchor"), key(path, "anchor"));
+  if (d.type == JointType::Distance) {
+    d.anchorB = vec3(required(j, path, "anchorB"), key(path, "anchorB"));
+    if (!((d.anchorB - d.anchor).norm() > 1e-6))
+      fail(key(path, "anchorB"), "must be apart from anchor (a distance joint's length)");
+  } else if (j.contains("anchorB")) {
+    fail(key(path, "anchorB"), "only distance joints have a second anchor");
+  }
   opt(j, path, "axis", [&](const json& v, const std::string& p) { d.axis = direction(v, p); });
   opt(j, path, "limit", [&](const json& v, const std::string& p) {
-    if (!hasAxisPosition(d.type)) fail(p, "only hinges and sliders have limits");
+    if (!hasAxisPosition(d.type)) fail(p, "only hinges, sliders and distance joints have limits");
     if (!v.is_array() || v.size() != 2) fail(p, "must be [lower, upper]");
     d.enableLimit = true;
     d.lower = number(v[0], index(p, 0)), d.upper = number(v[1], index(p, 1));
@@ -699,14 +707,14 @@ JointSpec parseJoint(const json& j, const std::string& path, const Scene& s) {
       fail(p, "a hinge's limits must be within [-pi, pi] rad");
   });
   opt(j, path, "motor", [&](const json& v, const std::string& p) {
-    if (!hasAxisPosition(d.type)) fail(p, "only hinges and sliders have motors");
+    if (!hasAxisPosition(d.type)) fail(p, "only hinges, sliders and distance joints have motors");
     object(v, p, {"speed", "maxForce"});
     d.enableMotor = true;
     opt(v, p, "speed", [&](const json& x, const std::string& xp) { d.motorSpeed = number(x, xp); });
     d.maxMotorForce = nonNegative(required(v, p, "maxForce"), key(p, "maxForce"));
   });
   opt(j, path, "spring", [&](const json& v, const std::string& p) {
-    if (!hasAxisPosition(d.type)) fail(p, "only hinges and sliders have springs");
+    if (!hasAxisPosition(d.type)) fail(p, "only hinges, sliders and distance joints have springs");
     object(v, p, {"hertz", "dampingRatio", "target"});
     d.enableSpring = true;
     d.springHertz = positive(required(v, p, "hertz"), key(p, "hertz"));
