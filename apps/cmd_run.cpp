@@ -78,6 +78,10 @@ int runScene(const RunArgs& a) {
           1000.0 * h["maxPenetrationTracked"].get<double>(),
           1000.0 * h["maxPenetrationVisual"].get<double>());
     }
+    for (const nlohmann::json& b : m["jointBreaks"]) {
+      std::printf("joints[%lld] broke at %.3f s (%.3g N, %.3g N m)\n", b["joint"].get<long long>(),
+                  b["time"].get<double>(), b["force"].get<double>(), b["torque"].get<double>());
+    }
     for (const scene::CheckResult& c : r.checks) {
       std::printf("  %s  %s: %s\n", c.passed ? "PASS" : "FAIL", c.label.c_str(), c.detail.c_str());
     }

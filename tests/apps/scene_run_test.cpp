@@ -129,6 +129,32 @@ TEST(SceneRun, RecordEveryThinsTheFrames) {
   fs::remove_all(dir);
 }
 
+// A joint that breaks is in the metrics: the scene's second joint (a 2 kg ball on a rope that
+// bears 1.5 times 1 kg's weight) breaks in the first step, holding the ball's weight; the first
+// (1 kg on the same rope) never does.
+TEST(SceneRun, BrokenJointsAreInTheMetrics) {
+  const json doc = json::parse(R"({
+    "grip_scene": 1, "name": "ropes", "duration": 0.5,
+    "bodies": [
+      {"name": "hook", "type": "static", "shape": {"type": "box", "halfExtents": [0.05, 0.05, 0.05]},
+       "position": [0, 2, 0]},
+      {"name": "light", "shape": {"type": "sphere", "radius": 0.05}, "position": [0, 1, 0], "mass": 1},
+      {"name": "heavy", "shape": {"type": "sphere", "radius": 0.05}, "position": [1, 1, 0], "mass": 2}
+    ],
+    "joints": [
+      {"type": "distance", "a": "hook", "b": "light", "anchor": [0, 2, 0], "anchorB": [0, 1, 0],
+       "limit": [-1, 0], "breakForce": 14.7},
+      {"type": "distance", "a": "hook", "b": "heavy", "anchor": [1, 2, 0], "anchorB": [1, 1, 0],
+       "limit": [-1, 0], "breakForce": 14.7}
+    ]})");
+  const RunResult r = run(parseScene(doc));
+  const json& breaks = r.metrics["jointBreaks"];
+  ASSERT_EQ(breaks.size(), 1u);
+  EXPECT_EQ(breaks[0]["joint"].get<int>(), 1);
+  EXPECT_NEAR(breaks[0]["time"].get<double>(), 1.0 / 60.0, 1e-12);
+  EXPECT_NEAR(breaks[0]["force"].get<double>(), 2.0 * 9.81, 0.01 * 2.0 * 9.81);
+}
+
 // Found by fuzz/fuzz_scene.cpp: a scene shortened after parsing, with a check measured from a
 // time the run no longer reaches, read reference states that were never taken.
 TEST(SceneRun, ACheckFromATimeTheRunNeverReachesIsRefused) {

@@ -301,12 +301,13 @@ RunResult run(const Scene& scene, const RunOptions& options) {
     }
     if (b.interaction) ix.setBodyOverrides(ids.back(), *b.interaction);
   }
+  std::vector<JointId> jointIds;
   for (size_t k = 0; k < scene.joints.size(); ++k) {
     JointDef d = scene.joints[k].def;
     d.a = ids[static_cast<size_t>(scene.joints[k].a)];
     d.b = ids[static_cast<size_t>(scene.joints[k].b)];
     try {
-      world.createJoint(d);
+      jointIds.push_back(world.createJoint(d));
     } catch (const Error& e) {
       throw Error("joints[" + std::to_string(k) + "]", e.what());
     }
@@ -399,6 +400,7 @@ RunResult run(const Scene& scene, const RunOptions& options) {
   double energyMax = energy0;
   double maxPenTracked = 0.0, maxPenVisual = 0.0;
   long long slipSamples = 0, slipOnsets = 0, contactsBegun = 0;
+  json jointBreaks = json::array();  // scene joint index, time, force (N), torque (N m)
   int maxPressing = 0;
   std::map<std::tuple<uint32_t, int, uint32_t>, bool> slipping;
   double tHands = 0.0, tInteraction = 0.0, tStep = 0.0, tRecord = 0.0, tMeasure = 0.0;
@@ -434,6 +436,13 @@ RunResult run(const Scene& scene, const RunOptions& options) {
     const std::vector<HandContactInfo> contacts =
         hands.empty() ? std::vector<HandContactInfo>{} : ix.contacts();
     contactsBegun += static_cast<long long>(ix.contactBeginEvents().size());
+    for (const JointBreakEvent& e : world.jointBreakEvents()) {
+      const auto k = std::find(jointIds.begin(), jointIds.end(), e.joint) - jointIds.begin();
+      jointBreaks.push_back({{"joint", k},
+                             {"time", (step + 1) * dt},
+                             {"force", e.force.norm()},
+                             {"torque", e.torque.norm()}});
+    }
     slipSamples += ix.stats().slippingSamples;
     maxPressing = std::max(maxPressing, ix.stats().pressingContacts);
     for (const HandContactInfo& ci : contacts) {
@@ -643,6 +652,7 @@ RunResult run(const Scene& scene, const RunOptions& options) {
                 {"slippingSampleSteps", slipSamples},
                 {"maxPenetrationTracked", maxPenTracked},
                 {"maxPenetrationVisual", maxPenVisual}};
+  m["jointBreaks"] = jointBreaks;
   m["energy"] = {{"initial", energy0}, {"final", totalEnergy(world)}, {"max", energyMax}};
   m["timings"] = {{"hands", tHands},   {"interaction", tInteraction},
                   {"step", tStep},     {"measure", tMeasure},
