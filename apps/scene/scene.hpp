@@ -4,6 +4,7 @@
 // "bodies[2].shape.halfExtents[1]: must be positive". See docs/scenes.md for the format.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <functional>
 #include <optional>
@@ -74,6 +75,9 @@ struct JointSpec {
   JointDef def;
   int a = 0, b = 0;
 };
+// The joint types as scene files and recordings spell them, in JointType's order.
+inline constexpr std::array<const char*, 5> kJointTypeNames = {"fixed", "ball", "hinge", "slider",
+                                                               "distance"};
 
 enum class CheckKind : uint8_t { Position, Displacement, Speed, LowestHeight, HandContacts, Angle };
 

@@ -20,6 +20,22 @@ fs::path freshDir(const std::string& name) {
   return d;
 }
 
+// Runs the scene writing its recording and metrics into dir.
+RunResult runRecorded(const Scene& s, const fs::path& dir) {
+  RunOptions opt;
+  opt.outDir = dir.string();
+  return run(s, opt);
+}
+
+// The recording's lines, parsed.
+std::vector<json> recordingLines(const std::string& path) {
+  std::ifstream in(path);
+  std::string line;
+  std::vector<json> lines;
+  while (std::getline(in, line)) lines.push_back(json::parse(line));
+  return lines;
+}
+
 class BuiltinSceneTest : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(BuiltinSceneTest, PassesItsCheck) {
@@ -67,17 +83,13 @@ TEST(SceneRun, TrackingNoiseIsSeeded) {
 TEST(SceneRun, TheRecordingIsCompleteAndParseable) {
   const fs::path dir = freshDir("rec");
   const Scene s = parseScene(*builtinScene("grasp_lift"));
-  RunOptions opt;
-  opt.outDir = dir.string();
-  const RunResult r = run(s, opt);
+  const RunResult r = runRecorded(s, dir);
   ASSERT_EQ(r.recordingPath, (dir / "recording.jsonl").string());
   EXPECT_FALSE(fs::exists(dir / "recording.jsonl.partial"));
-  std::ifstream in(r.recordingPath);
-  std::string line;
-  std::vector<json> lines;
-  while (std::getline(in, line)) lines.push_back(json::parse(line));
+  const std::vector<json> lines = recordingLines(r.recordingPath);
   ASSERT_EQ(lines.size(), static_cast<size_t>(s.steps()) + 2);
   const json& header = lines.front();
+  EXPECT_TRUE(header["joints"].empty());
   EXPECT_EQ(header["format"], "grip-recording");
   EXPECT_EQ(header["bodies"].size(), 2u);
   EXPECT_EQ(header["hands"][0]["bones"].size(), 16u);
@@ -110,6 +122,40 @@ TEST(SceneRun, TheRecordingIsCompleteAndParseable) {
   EXPECT_LT(m["hands"]["maxPenetrationTracked"].get<double>(), 0.01);
   for (const char* k : {"hands", "interaction", "step", "record"})
     EXPECT_TRUE(m["timings"].contains(k));
+  fs::remove_all(dir);
+}
+
+// The recording's header gives each joint's anchors in its bodies' frames: placed by the bodies'
+// recorded poses they meet in every frame (open_door's hinge, within the joint's give).
+TEST(SceneRun, TheRecordingPlacesEachJointsAnchors) {
+  const fs::path dir = freshDir("rec_joints");
+  const Scene s = parseScene(*builtinScene("open_door"));
+  const std::vector<json> lines = recordingLines(runRecorded(s, dir).recordingPath);
+  const json& header = lines.front();
+  ASSERT_EQ(header["joints"].size(), s.joints.size());
+  ASSERT_FALSE(s.joints.empty());
+  auto vec = [](const json& v, size_t k) {
+    return Vec3(v[k].get<double>(), v[k + 1].get<double>(), v[k + 2].get<double>());
+  };
+  auto at = [&](const json& pose, const json& local) {
+    const Transform t{vec(pose, 0), Quat(pose[3].get<double>(), pose[4].get<double>(),
+                                         pose[5].get<double>(), pose[6].get<double>())};
+    return t.apply(vec(local, 0));
+  };
+  double widest = 0.0;
+  int frames = 0;
+  for (const json& f : lines) {
+    if (!f.contains("frame")) continue;  // the header, the end line
+    ++frames;
+    for (const json& j : header["joints"]) {
+      const Vec3 a = at(f["bodies"][j["a"].get<size_t>()], j["anchorA"]);
+      const Vec3 b = at(f["bodies"][j["b"].get<size_t>()], j["anchorB"]);
+      widest = std::max(widest, (a - b).norm());
+    }
+  }
+  EXPECT_EQ(frames, s.steps());
+  EXPECT_LT(widest, 2e-3);
+  EXPECT_EQ(header["joints"][0]["type"], "hinge");
   fs::remove_all(dir);
 }
 

@@ -117,6 +117,18 @@ export class RecordingParser {
     h.hands.forEach((hand, i) => {
       if (!hand || !Array.isArray(hand.bones)) this.fail(`header: hands[${i}] has no bones`);
     });
+    // Joints (optional; recordings before them have none): two bodies and an anchor in each.
+    if (h.joints === undefined) h.joints = [];
+    if (!Array.isArray(h.joints)) this.fail('header: "joints" must be an array');
+    const isVec = (v) => Array.isArray(v) && v.length === 3 && v.every(isNum);
+    h.joints.forEach((j, i) => {
+      for (const k of ['a', 'b']) {
+        if (!j || !Number.isInteger(j[k]) || j[k] < 0 || j[k] >= h.bodies.length)
+          this.fail(`header: joints[${i}].${k}: no body ${JSON.stringify(j && j[k])}`);
+      }
+      for (const k of ['anchorA', 'anchorB'])
+        if (!isVec(j[k])) this.fail(`header: joints[${i}].${k} must be 3 numbers`);
+    });
     this.header = h;
     this.nb = h.bodies.length;
     this.nh = h.hands.length;

@@ -13,6 +13,7 @@ export const ID_COLORS = [
 const STATE_COLORS = [0x9e9e9e, 0x2ca02c, 0xff7f0e]; // touch, stick, slip
 const FORCE_COLOR = 0xe02020;
 const MOTION_COLOR = 0xffd400;
+const JOINT_COLOR = 0x334455;
 const SKIN = 0xe0ac8a;
 
 // A mesh (or group) for one recorded shape; compounds of boxes become one instanced mesh.
@@ -110,6 +111,7 @@ class Arrow extends THREE.Group {
   }
 }
 const UP = new THREE.Vector3(0, 1, 0);
+const ANCHOR = new THREE.Vector3();
 
 function setPose(obj, a, o) {
   obj.position.set(a[o], a[o + 1], a[o + 2]);
@@ -170,6 +172,16 @@ export class SceneView {
       scene.add(obj);
       return obj;
     });
+
+    // Joints: a line from each joint's anchor on a to its anchor on b (a rope, a rod; a point
+    // where the joint holds them together).
+    const nj = rec.header.joints.length;
+    this.jointLines = new THREE.LineSegments(
+      new THREE.BufferGeometry().setAttribute('position', new THREE.BufferAttribute(new Float32Array(Math.max(1, nj) * 6), 3)),
+      new THREE.LineBasicMaterial({ color: JOINT_COLOR }));
+    this.jointLines.frustumCulled = false;
+    this.jointLines.geometry.setDrawRange(0, 2 * nj);
+    scene.add(this.jointLines);
 
     const skinTracked = new THREE.MeshLambertMaterial({ color: SKIN, transparent: true, opacity: 0.3, depthWrite: false });
     const skinVisual = new THREE.MeshLambertMaterial({ color: SKIN });
@@ -257,6 +269,15 @@ export class SceneView {
     if (!rec) return;
     this.frame = f;
     for (let i = 0; i < rec.nb; ++i) setPose(this.bodies[i], rec.bodyPose, (f * rec.nb + i) * 7);
+    const line = this.jointLines.geometry.attributes.position;
+    rec.header.joints.forEach((j, k) => {
+      const a = ANCHOR.fromArray(j.anchorA).applyQuaternion(this.bodies[j.a].quaternion).add(this.bodies[j.a].position);
+      line.setXYZ(2 * k, a.x, a.y, a.z);
+      const b = ANCHOR.fromArray(j.anchorB).applyQuaternion(this.bodies[j.b].quaternion).add(this.bodies[j.b].position);
+      line.setXYZ(2 * k + 1, b.x, b.y, b.z);
+    });
+    line.needsUpdate = true;
+    this.jointLines.visible = !this.idMode;
     const a = rec.contactStart[f], b = rec.contactStart[f + 1];
     const inContact = new Array(rec.nh).fill(false);
     for (let c = a; c < b; ++c) if (rec.cState[c] !== 0) inContact[rec.cHand[c]] = true;
@@ -324,8 +345,14 @@ export class SceneView {
       trackedBones += h.tracked.filter((o) => o.visible).length;
       visualBones += h.visual.filter((o) => o.visible).length;
     }
+    const line = this.jointLines.geometry.attributes.position;
+    const jointLengths = this.jointLines.visible
+      ? this.rec.header.joints.map((j, k) => Math.hypot(line.getX(2 * k + 1) - line.getX(2 * k),
+        line.getY(2 * k + 1) - line.getY(2 * k), line.getZ(2 * k + 1) - line.getZ(2 * k)))
+      : [];
     return {
       bodies: this.bodies.length,
+      jointLengths,
       trackedBones,
       visualBones,
       contactDots: this.dots.count,

@@ -42,6 +42,13 @@ test('reads frames into typed arrays and derives speeds, forces and hand motion'
   assert.ok(Math.abs(shapeRadius(header.bodies[1].shape) - (0.3 + Math.sqrt(0.03))) < 1e-12);
 });
 
+test('joints are optional in the header and read when given', () => {
+  assert.deepEqual(parseText(good).header.joints, []);
+  const joint = { type: 'distance', a: 0, b: 1, anchorA: [0, 1, 0], anchorB: [0, 0.1, 0] };
+  const withJoint = good.replace('"hands":', `"joints":[${JSON.stringify(joint)}],"hands":`);
+  assert.deepEqual(parseText(withJoint).header.joints, [joint]);
+});
+
 test('any split of the text into chunks reads the same', () => {
   for (const size of [1, 7, 100]) {
     const p = new RecordingParser();
@@ -66,6 +73,9 @@ test('broken recordings are refused with the line and the reason', () => {
     [[lines[0], lines[1], lines[2], '{"end":true,"frames":5}'].join('\n'), /the end line says 5 frames but the file has 2/],
     [[lines[0], lines[1].replace('[1,0.1,0,1,0,0,0]', '[1,0.1,null,1,0,0,0]').replace('[0,0.1,0,1,0,0,0]', '[0,0.1,null,1,0,0,0]')].join('\n'), /bodies\[1\]: not a finite number \(null\)/],
     [[lines[0], lines[3], lines[1]].join('\n'), /line 3: text after the end line/],
+    [[lines[0].replace('"hands":', '"joints":[{"a":0,"b":2,"anchorA":[0,0,0],"anchorB":[0,0,0]}],"hands":'), lines[1]].join('\n'), /header: joints\[0\]\.b: no body 2/],
+    [[lines[0].replace('"hands":', '"joints":[{"a":0,"b":1,"anchorA":[0,0],"anchorB":[0,0,0]}],"hands":'), lines[1]].join('\n'), /header: joints\[0\]\.anchorA must be 3 numbers/],
+    [[lines[0].replace('"hands":', '"joints":{},"hands":'), lines[1]].join('\n'), /header: "joints" must be an array/],
   ];
   for (const [text, message] of cases) {
     assert.throws(() => parseText(text), (e) => e instanceof RecordingError && message.test(e.message), String(message));

@@ -26,6 +26,11 @@ const shapes = {
     { name: 'wedge', shape: { type: 'hull', points: [[0, 0, 0], [0.1, 0, 0], [0, 0.1, 0], [0, 0, 0.1], [0.1, 0, 0.1], [0, 0.1, 0.1]] }, position: [0.2, 0, -0.05] },
   ],
 };
+// A ball on a 0.3 m rope and a door on a hinge: the viewer draws each joint's line.
+shapes.bodies.push(
+  { name: 'hook', type: 'static', shape: { type: 'box', halfExtents: [0.04, 0.04, 0.04] }, position: [0, 0.6, 0.3] },
+  { name: 'bob', shape: { type: 'sphere', radius: 0.05 }, position: [0, 0.3, 0.3] });
+shapes.joints = [{ type: 'distance', a: 'hook', b: 'bob', anchor: [0, 0.6, 0.3], anchorB: [0, 0.3, 0.3], limit: [-0.3, 0] }];
 writeFileSync(join(dir, 'shapes.json'), JSON.stringify(shapes));
 grip(['run', join(dir, 'shapes.json'), '--out', join(dir, 'shapes'), '--quiet']);
 
@@ -152,6 +157,9 @@ test('a screenshot shows every body of the recording', async () => {
   assert.equal(s.error, null);
   assert.equal(s.scene, 'shapes');
   assert.equal(s.shown.bodies, shapes.bodies.length);
+  // The rope hangs taut: its line is the rope's length.
+  assert.equal(s.shown.jointLengths.length, 1);
+  assert.ok(Math.abs(s.shown.jointLengths[0] - 0.3) < 2e-3, `rope drawn ${s.shown.jointLengths[0]} m long`);
   // Flat colours per body: count the colours seen in a screenshot.
   await page.evaluate(() => window.gripViewer.setIdMode(true));
   const palette = await page.evaluate(() => window.gripViewer.idColors);

@@ -679,8 +679,7 @@ JointSpec parseJoint(const json& j, const std::string& path, const Scene& s) {
   JointSpec js;
   JointDef& d = js.def;
   d.type =
-      static_cast<JointType>(choice(required(j, path, "type"), key(path, "type"),
-                                    std::array{"fixed", "ball", "hinge", "slider", "distance"}));
+      static_cast<JointType>(choice(required(j, path, "type"), key(path, "type"), kJointTypeNames));
   js.a = bodyByName(required(j, path, "a"), key(path, "a"), s);
   js.b = bodyByName(required(j, path, "b"), key(path, "b"), s);
   if (js.a == js.b) fail(key(path, "b"), "must be another body than a");

@@ -375,6 +375,22 @@ RunResult run(const Scene& scene, const RunOptions& options) {
                         {"bones", bones}});
     }
     header["hands"] = handsJ;
+    // Each joint's anchors in its bodies' frames (from the origin, as the frames' poses are):
+    // the viewer draws the line between them.
+    json jointsJ = json::array();
+    for (const JointSpec& j : scene.joints) {
+      auto local = [&](int body, const Vec3& anchor) {
+        const BodyDef& d = scene.bodies[static_cast<size_t>(body)].def;
+        return vecJson(d.orientation.normalized().conjugate() * (anchor - d.position));
+      };
+      const Vec3& anchorB = j.def.type == JointType::Distance ? j.def.anchorB : j.def.anchor;
+      jointsJ.push_back({{"type", kJointTypeNames[static_cast<size_t>(j.def.type)]},
+                         {"a", j.a},
+                         {"b", j.b},
+                         {"anchorA", local(j.a, j.def.anchor)},
+                         {"anchorB", local(j.b, anchorB)}});
+    }
+    header["joints"] = jointsJ;
     rec->write(header.dump());
   }
 
