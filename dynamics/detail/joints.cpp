@@ -110,7 +110,7 @@ void jointRows(const Joint& j, const JointPose& pa, const JointPose& pb, JointRo
       out.limit = {u, rA.cross(u), rB.cross(u), 0.0};
       // A rod, unless its length may change (a rope's slack, a spring, a winch).
       if (!j.enableLimit && !j.enableSpring && !j.enableMotor)
-        add(u, rA.cross(u), rB.cross(u), out.position);
+        add(u, rA.cross(u), rB.cross(u), out.position - j.rodStretch);
       break;
     }
   }
@@ -579,6 +579,12 @@ void World::setJointMotor(JointId id, bool enable, double speed, double maxForce
   requireFinite(speed, "setJointMotor.speed");
   requireNonNegative(maxForce, "setJointMotor.maxForce");
   Joint& j = impl_->joints[id.index];
+  // A distance joint's rod row comes and goes with the motor: it starts afresh each time, and a
+  // winch switched off holds the length it reeled to.
+  if (j.type == JointType::Distance && enable != j.enableMotor) {
+    j.impulse[0] = 0.0;
+    if (!enable) j.rodStretch = jointPosition(id);
+  }
   j.enableMotor = enable, j.motorSpeed = speed, j.maxMotorForce = maxForce;
   if (!enable) j.motorImpulse = 0.0;
   impl_->wakeBody(j.a), impl_->wakeBody(j.b);

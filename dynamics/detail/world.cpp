@@ -746,6 +746,7 @@ uint64_t World::stateHash() const {
     h.add(uint64_t(i));
     for (double x : j.impulse) h.add(x);
     h.add(j.lowerImpulse), h.add(j.upperImpulse), h.add(j.motorImpulse), h.add(j.springImpulse);
+    h.add(j.rodStretch);
   }
   return h.value();
 }

@@ -335,6 +335,7 @@ struct Joint {
   Vec3 axisA = Vec3::UnitY(), axisB = Vec3::UnitY();  // the unit axis in each body's frame
   Quat reference = Quat::Identity();                  // qA^-1 qB when made
   double restLength = 0.0;                            // a distance joint's, when made
+  double rodStretch = 0.0;  // a distance rod's length from restLength (where a winch stopped)
   bool enableLimit = false, collideConnected = false, enableMotor = false, enableSpring = false;
   double lower = 0.0, upper = 0.0, motorSpeed = 0.0, maxMotorForce = 0.0;
   double springHertz = 0.0, springDampingRatio = 0.0, springTarget = 0.0;

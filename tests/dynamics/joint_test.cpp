@@ -4,6 +4,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <functional>
+#include <utility>
 #include <vector>
 
 #include "dynamics/scenes.hpp"
@@ -61,6 +63,20 @@ JointDef doorHinge(World& w) {
   d.b = addBox(w, Vec3(0.4, 1.0, 0.02), Vec3(0.0, 1.0, 0.0), kDoorMass);
   d.anchor = Vec3(-0.4, 1.0, 0.0);
   return d;
+}
+
+// A 1 kg ball of radius 5 cm hung `length` below a static hook at (0, 3, 0) on a distance joint
+// between the hook and the ball's centre, the def changed first by `change`.
+std::pair<BodyId, JointId> hangOnDistance(World& w, double length,
+                                          const std::function<void(JointDef&)>& change) {
+  const BodyId hook = addStatic(w, Vec3(0.0, 3.0, 0.0));
+  const BodyId ball = addBall(w, 0.05, Vec3(0.0, 3.0 - length, 0.0), 1.0);
+  JointDef d;
+  d.type = JointType::Distance;
+  d.a = hook, d.b = ball;
+  d.anchor = Vec3(0.0, 3.0, 0.0), d.anchorB = Vec3(0.0, 3.0 - length, 0.0);
+  change(d);
+  return {ball, w.createJoint(d)};
 }
 
 // The mean period of x(t) from its downward zero crossings (linearly interpolated).
@@ -664,14 +680,7 @@ TEST(Joint, AJointBreaksAboveItsForceOrTorque) {
 // spring toward a stretch of -0.1 m (no gravity) it oscillates with a period of 0.5 s.
 TEST(Joint, ADistanceJointIsARodARopeOrASpring) {
   auto setUp = [](World& w, const std::function<void(JointDef&)>& change) {
-    const BodyId top = addStatic(w, Vec3(0.0, 3.0, 0.0));
-    const BodyId ball = addBall(w, 0.05, Vec3(0.0, 2.0, 0.0), 1.0);
-    JointDef d;
-    d.type = JointType::Distance;
-    d.a = top, d.b = ball;
-    d.anchor = Vec3(0.0, 3.0, 0.0), d.anchorB = Vec3(0.0, 2.0, 0.0);
-    change(d);
-    return std::make_pair(ball, w.createJoint(d));
+    return hangOnDistance(w, 1.0, change);
   };
   {  // a rod
     World w;
@@ -723,5 +732,32 @@ TEST(Joint, ADistanceJointIsARodARopeOrASpring) {
     for (size_t i = 5; i < 25; ++i) trough = std::min(trough, x[i]);
     EXPECT_LT(trough, -0.09);                          // solved in the relax pass too: -0.085
     EXPECT_NEAR(w.centerOfMass(ball).x(), 0.0, 1e-9);  // along the line only
+  }
+}
+
+// A distance joint's motor is a winch: reeling a 1 kg ball in at 0.5 m/s within 20 N it lifts
+// the ball 0.5 m in a second, holding its weight; within 5 N (less than the weight) the ball
+// pays the line out, falling at g - 5 N / m; switched off, the line is a rod again at its
+// length then.
+TEST(Joint, ADistanceMotorIsAWinch) {
+  for (double maxForce : {20.0, 5.0}) {
+    World w;
+    const auto [ball, winch] = hangOnDistance(w, 2.0, [&](JointDef& d) {
+      d.enableMotor = true, d.motorSpeed = -0.5, d.maxMotorForce = maxForce;
+    });
+    for (int i = 0; i < 60; ++i) w.step(kDt);
+    if (maxForce > kG) {  // up to speed at F/m - g, then steady
+      const double lag = 0.5 * 0.5 / (2.0 * (maxForce - kG));
+      EXPECT_NEAR(w.centerOfMass(ball).y(), 1.5 - lag, 2e-3);
+      EXPECT_NEAR(w.jointSpeed(winch), -0.5, 1e-6);
+      EXPECT_NEAR(w.jointForce(winch).y(), kG, 0.01 * kG);
+    } else {
+      EXPECT_NEAR(w.jointSpeed(winch), (kG - maxForce) * 1.0, 0.02 * (kG - maxForce));
+    }
+    w.setJointMotor(winch, false, 0.0, 0.0);
+    const double length = w.jointPosition(winch);
+    for (int i = 0; i < 60; ++i) w.step(kDt);
+    EXPECT_NEAR(w.jointPosition(winch), length, 2e-3);
+    EXPECT_LT(w.linearVelocity(ball).norm(), 0.05);
   }
 }
