@@ -246,8 +246,18 @@ class World {
   double jointPosition(JointId id) const;
   // The rate of jointPosition (rad/s or m/s).
   double jointSpeed(JointId id) const;
-  // Turns a hinge's or slider's motor on or off (as JointDef's fields); wakes the bodies.
+  // Turns a hinge's, slider's or distance joint's motor on or off (as JointDef's fields);
+  // wakes the bodies. A distance joint left with no limit, motor or spring is a rod at the
+  // length it has then (a winch stops and holds).
   void setJointMotor(JointId id, bool enable, double speed, double maxForce);
+  // Turns the limits on (with new bounds, as JointDef's) or off; wakes the bodies.
+  void setJointLimits(JointId id, bool enable, double lower, double upper);
+  // Turns the spring on (with a new stiffness, damping and target, as JointDef's) or off.
+  void setJointSpring(JointId id, bool enable, double springHertz, double springDampingRatio,
+                      double springTarget);
+  // A distance joint's length (m, > 0): the rod's, and what its limits, spring target and
+  // jointPosition count from (a rope shortened by its full length's change).
+  void setJointLength(JointId id, double length);
   // The force the joint exerted on b over the last step's last substep (N; on a the opposite),
   // as contactForce: a door hanging on two hinges feels its weight in them.
   Vec3 jointForce(JointId id) const;

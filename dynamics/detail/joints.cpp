@@ -405,9 +405,10 @@ void World::Impl::solveJoints(double h, bool useBias) {
     }
     // A later block softens the locked rows: until then they are only held rigid.
     BlockRow rigid[6];
-    for (int r = 0; r < n; ++r)
-      rigid[r] = block[r], rigid[r].bias = 0.0, rigid[r].massScale = 1.0,
-      rigid[r].impulseScale = 0.0;
+    if (axisCount > 1)
+      for (int r = 0; r < n; ++r)
+        rigid[r] = block[r], rigid[r].bias = 0.0, rigid[r].massScale = 1.0,
+        rigid[r].impulseScale = 0.0;
     for (int k = 0; k < axisCount; ++k)
       solveBlock(jb, j.frame, k + 1 == axisCount ? block : rigid, n, &axisRows[k]);
   }
@@ -449,6 +450,35 @@ const Joint& jointOf(const std::vector<Joint>& joints, JointId id, const char* f
     throw Error(field, id.isNull() ? "is the null joint id" : "is not a live joint");
   return joints[id.index];
 }
+
+// The checks createJoint and the setters share: `owner` prefixes the value fields ("JointDef",
+// "setJointLimits"), `typeField` names what asked a joint without an axis position for one.
+void requireAxisPosition(JointType type, const char* what, const std::string& typeField) {
+  if (!hasAxisPosition(type))
+    throw Error(typeField, std::string("only hinges, sliders and distance joints have ") + what);
+}
+void checkLimit(JointType type, double lower, double upper, const std::string& owner,
+                const std::string& typeField) {
+  requireFinite(lower, (owner + ".lower").c_str());
+  requireFinite(upper, (owner + ".upper").c_str());
+  requireAxisPosition(type, "limits", typeField);
+  if (lower > upper) throw Error(owner + ".lower", "must not exceed upper");
+  if (type == JointType::Hinge && (lower < -kPi || upper > kPi))
+    throw Error(owner + (lower < -kPi ? ".lower" : ".upper"), "must be within [-pi, pi]");
+}
+void checkMotor(JointType type, double speed, double maxForce, const std::string& owner,
+                const std::string& typeField) {
+  requireAxisPosition(type, "motors", typeField);
+  requireFinite(speed, (owner + ".motorSpeed").c_str());
+  requireNonNegative(maxForce, (owner + ".maxMotorForce").c_str());
+}
+void checkSpring(JointType type, double hertz, double dampingRatio, double target,
+                 const std::string& owner, const std::string& typeField) {
+  requireAxisPosition(type, "springs", typeField);
+  requirePositive(hertz, (owner + ".springHertz").c_str());
+  requireNonNegative(dampingRatio, (owner + ".springDampingRatio").c_str());
+  requireFinite(target, (owner + ".springTarget").c_str());
+}
 }  // namespace
 
 JointId World::createJoint(const JointDef& d) {
@@ -467,33 +497,17 @@ JointId World::createJoint(const JointDef& d) {
   const double length = d.axis.norm();
   if (!(length > 1e-12) || !std::isfinite(length))
     throw Error("JointDef.axis", "must have a length above zero");
-  if (d.enableLimit) {
-    requireFinite(d.lower, "JointDef.lower");
-    requireFinite(d.upper, "JointDef.upper");
-    if (!hasAxisPosition(d.type))
-      throw Error("JointDef.enableLimit", "only hinges, sliders and distance joints have limits");
-    if (d.lower > d.upper) throw Error("JointDef.lower", "must not exceed upper");
-    if (d.type == JointType::Hinge && (d.lower < -kPi || d.upper > kPi))
-      throw Error(d.lower < -kPi ? "JointDef.lower" : "JointDef.upper", "must be within [-pi, pi]");
-  }
-  if (d.enableMotor) {
-    if (!hasAxisPosition(d.type))
-      throw Error("JointDef.enableMotor", "only hinges, sliders and distance joints have motors");
-    requireFinite(d.motorSpeed, "JointDef.motorSpeed");
-    requireNonNegative(d.maxMotorForce, "JointDef.maxMotorForce");
-  }
+  if (d.enableLimit) checkLimit(d.type, d.lower, d.upper, "JointDef", "JointDef.enableLimit");
+  if (d.enableMotor)
+    checkMotor(d.type, d.motorSpeed, d.maxMotorForce, "JointDef", "JointDef.enableMotor");
   // Positive; infinity (the default) never breaks.
   if (!(d.breakForce > 0.0))
     throw Error("JointDef.breakForce", "must be positive (infinity: never breaks)");
   if (!(d.breakTorque > 0.0))
     throw Error("JointDef.breakTorque", "must be positive (infinity: never breaks)");
-  if (d.enableSpring) {
-    if (!hasAxisPosition(d.type))
-      throw Error("JointDef.enableSpring", "only hinges, sliders and distance joints have springs");
-    requirePositive(d.springHertz, "JointDef.springHertz");
-    requireNonNegative(d.springDampingRatio, "JointDef.springDampingRatio");
-    requireFinite(d.springTarget, "JointDef.springTarget");
-  }
+  if (d.enableSpring)
+    checkSpring(d.type, d.springHertz, d.springDampingRatio, d.springTarget, "JointDef",
+                "JointDef.enableSpring");
 
   Joint j;
   j.alive = true;
@@ -572,21 +586,80 @@ double World::jointSpeed(JointId id) const {
   return r.lin.dot(B.v - A.v) + r.angB.dot(B.w) - r.angA.dot(A.w);
 }
 
+// Applies a change to a joint's limit, motor or spring and wakes its bodies. A distance joint
+// is a rod while it has none of them: the rod's row comes and goes with them, starting afresh
+// each time, and holds the length the joint has when it comes (a winch stopped, a rope whose
+// limit was taken off), not the one it was made with.
+template <class Change>
+void World::Impl::changeAxisDrive(uint32_t slot, const Change& change) {
+  Joint& j = joints[slot];
+  const auto isRod = [](const Joint& k) {
+    return k.type == JointType::Distance && !k.enableLimit && !k.enableSpring && !k.enableMotor;
+  };
+  const bool wasRod = isRod(j);
+  JointRows rows;
+  if (j.type == JointType::Distance) jointRows(j, poseOf(bodies[j.a]), poseOf(bodies[j.b]), rows);
+  change(j);
+  if (isRod(j) != wasRod) {
+    j.impulse[0] = 0.0;
+    if (isRod(j)) j.rodStretch = rows.position;
+  }
+  wakeBody(j.a), wakeBody(j.b);
+}
+
 void World::setJointMotor(JointId id, bool enable, double speed, double maxForce) {
   const Joint& found = jointOf(impl_->joints, id, "setJointMotor.id");
   if (!hasAxisPosition(found.type))
     throw Error("setJointMotor.id", "only hinges, sliders and distance joints have motors");
   requireFinite(speed, "setJointMotor.speed");
   requireNonNegative(maxForce, "setJointMotor.maxForce");
+  impl_->changeAxisDrive(id.index, [&](Joint& j) {
+    j.enableMotor = enable, j.motorSpeed = speed, j.maxMotorForce = maxForce;
+    if (!enable) j.motorImpulse = 0.0;
+  });
+}
+
+void World::setJointLimits(JointId id, bool enable, double lower, double upper) {
+  const Joint& found = jointOf(impl_->joints, id, "setJointLimits.id");
+  if (enable)
+    checkLimit(found.type, lower, upper, "setJointLimits", "setJointLimits.id");
+  else
+    requireAxisPosition(found.type, "limits", "setJointLimits.id");
+  impl_->changeAxisDrive(id.index, [&](Joint& j) {
+    // New limits start afresh (as Box2D's): what the old ones held may push the wrong way now.
+    if (enable != j.enableLimit || lower != j.lower || upper != j.upper)
+      j.lowerImpulse = 0.0, j.upperImpulse = 0.0;
+    j.enableLimit = enable;
+    if (enable) j.lower = lower, j.upper = upper;
+  });
+}
+
+void World::setJointSpring(JointId id, bool enable, double springHertz, double springDampingRatio,
+                           double springTarget) {
+  const Joint& found = jointOf(impl_->joints, id, "setJointSpring.id");
+  if (enable)
+    checkSpring(found.type, springHertz, springDampingRatio, springTarget, "setJointSpring",
+                "setJointSpring.id");
+  else
+    requireAxisPosition(found.type, "springs", "setJointSpring.id");
+  impl_->changeAxisDrive(id.index, [&](Joint& j) {
+    j.enableSpring = enable;
+    if (enable) j.springHertz = springHertz, j.springDampingRatio = springDampingRatio;
+    if (enable)
+      j.springTarget = springTarget;
+    else
+      j.springImpulse = 0.0;
+  });
+}
+
+void World::setJointLength(JointId id, double length) {
+  const Joint& found = jointOf(impl_->joints, id, "setJointLength.id");
+  if (found.type != JointType::Distance)
+    throw Error("setJointLength.id", "only distance joints have a length");
+  requirePositive(length, "setJointLength.length");
   Joint& j = impl_->joints[id.index];
-  // A distance joint's rod row comes and goes with the motor: it starts afresh each time, and a
-  // winch switched off holds the length it reeled to.
-  if (j.type == JointType::Distance && enable != j.enableMotor) {
-    j.impulse[0] = 0.0;
-    if (!enable) j.rodStretch = jointPosition(id);
-  }
-  j.enableMotor = enable, j.motorSpeed = speed, j.maxMotorForce = maxForce;
-  if (!enable) j.motorImpulse = 0.0;
+  // The rod, the rope's limits and the spring's target count from the new length.
+  j.restLength = length, j.rodStretch = 0.0;
   impl_->wakeBody(j.a), impl_->wakeBody(j.b);
 }
 

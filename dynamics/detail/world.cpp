@@ -747,6 +747,7 @@ uint64_t World::stateHash() const {
     for (double x : j.impulse) h.add(x);
     h.add(j.lowerImpulse), h.add(j.upperImpulse), h.add(j.motorImpulse), h.add(j.springImpulse);
     h.add(j.rodStretch);
+    if (j.type == JointType::Distance) h.add(j.restLength);  // setJointLength changes it
   }
   return h.value();
 }

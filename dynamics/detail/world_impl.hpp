@@ -554,6 +554,9 @@ struct World::Impl {
   const detail::Body& body(BodyId id, const char* field) const;
   BodyId idOf(uint32_t slot) const { return BodyId{slot, bodies[slot].generation}; }
   void wakeBody(uint32_t slot);
+  // A joint's limit, motor or spring changed by `change`, and its bodies woken (joints.cpp).
+  template <class Change>
+  void changeAxisDrive(uint32_t slot, const Change& change);
   void wakeAround(uint32_t slot);  // the body, and every body near it
   void refreshBounds(detail::Body& b) const;
   bool calm(const detail::Body& b, double dt) const;

@@ -761,3 +761,150 @@ TEST(Joint, ADistanceMotorIsAWinch) {
     EXPECT_LT(w.linearVelocity(ball).norm(), 0.05);
   }
 }
+
+// Limits and springs set while the world runs (as Box2D's b2RevoluteJoint_EnableLimit and
+// SetLimits): a free door turning at 1 rad/s is stopped at a limit set at 0.3 rad; with the
+// limit off and a critically damped spring set toward -0.5 rad it turns there without
+// overshoot; with the spring off it coasts as pushed; limits set around it while it stands
+// outside them bring it back inside.
+TEST(Joint, LimitsAndSpringsChangeWhileTheDoorRuns) {
+  WorldDef def;
+  def.gravity = Vec3::Zero();
+  World w(def);
+  const JointDef d = doorHinge(w);
+  const JointId hinge = w.createJoint(d);
+  w.setAngularVelocity(d.b, Vec3(0.0, 1.0, 0.0));  // about the hinge
+  w.setLinearVelocity(d.b, Vec3(0.0, 1.0, 0.0).cross(Vec3(0.4, 0.0, 0.0)));
+  for (int i = 0; i < 6; ++i) w.step(kDt);
+  EXPECT_NEAR(w.jointPosition(hinge), 0.1, 1e-3);  // free so far
+  w.setJointLimits(hinge, true, -0.3, 0.3);
+  double most = 0.0;
+  for (int i = 0; i < 60; ++i) {
+    w.step(kDt);
+    most = std::max(most, w.jointPosition(hinge));
+  }
+  EXPECT_LT(most, 0.3 + 1e-3);
+  EXPECT_NEAR(w.jointPosition(hinge), 0.3, 1e-3);
+  EXPECT_LT(std::abs(w.jointSpeed(hinge)), 1e-3);
+
+  w.setJointLimits(hinge, false, 0.0, 0.0);
+  w.setJointSpring(hinge, true, 1.0, 1.0, -0.5);
+  double least = 0.0;
+  for (int i = 0; i < 240; ++i) {
+    w.step(kDt);
+    least = std::min(least, w.jointPosition(hinge));
+  }
+  EXPECT_GT(least, -0.5 - 1e-3);  // past the old limit, no overshoot
+  EXPECT_NEAR(w.jointPosition(hinge), -0.5, 2e-3);
+
+  w.setJointSpring(hinge, false, 0.0, 0.0, 0.0);  // it coasts as pushed, nothing pulling back
+  w.setAngularVelocity(d.b, Vec3(0.0, -0.3, 0.0));
+  w.setLinearVelocity(d.b, Vec3(0.0, -0.3, 0.0).cross(w.centerOfMass(d.b) - d.anchor));
+  for (int i = 0; i < 10; ++i) w.step(kDt);
+  EXPECT_NEAR(w.jointSpeed(hinge), -0.3, 1e-6);
+  EXPECT_NEAR(w.jointTorque(hinge).y(), 0.0, 1e-9);
+
+  w.setJointLimits(hinge, true, -0.3, 0.3);  // the door turns at -0.55, outside them
+  for (int i = 0; i < 120; ++i) w.step(kDt);
+  EXPECT_GT(w.jointPosition(hinge), -0.3 - 2e-3);
+  EXPECT_LT(w.jointPosition(hinge), 0.3);
+  EXPECT_LT(std::abs(w.jointSpeed(hinge)), 0.1);
+}
+
+// A distance joint's length set while it runs (b2DistanceJoint_SetLength): a 1 m rod shortened
+// to 0.5 m lifts its ball to hang 0.5 m below the hook; a 1 m rope let out to 1.5 m lets the
+// ball down to 1.5 m; a rope whose limit is taken off while the ball flies up slack becomes a
+// rod at the length it has then (not the 1 m it was made with).
+TEST(Joint, ADistanceJointsLengthChangesWhileItRuns) {
+  {
+    World w;
+    const auto [ball, rod] = hangOnDistance(w, 1.0, [](JointDef&) {});
+    w.setJointLength(rod, 0.5);
+    EXPECT_NEAR(w.jointPosition(rod), 0.5, 1e-9);  // counted from the new length
+    for (int i = 0; i < 120; ++i) w.step(kDt);
+    EXPECT_NEAR(w.centerOfMass(ball).y(), 2.5, 2e-3);
+    EXPECT_NEAR(w.jointPosition(rod), 0.0, 2e-3);
+    EXPECT_NEAR(w.jointForce(rod).y(), kG, 0.01 * kG);
+  }
+  {
+    World w;
+    const auto [ball, rope] = hangOnDistance(
+        w, 1.0, [](JointDef& d) { d.enableLimit = true, d.lower = -1.0, d.upper = 0.0; });
+    w.setJointLength(rope, 1.5);
+    double lowest = 2.0;
+    for (int i = 0; i < 120; ++i) {
+      w.step(kDt);
+      lowest = std::min(lowest, w.centerOfMass(ball).y());
+    }
+    EXPECT_GT(lowest, 1.5 - 0.01);
+    EXPECT_NEAR(w.centerOfMass(ball).y(), 1.5, 2e-3);
+  }
+  World w;
+  const auto [ball, rope] = hangOnDistance(
+      w, 1.0, [](JointDef& d) { d.enableLimit = true, d.lower = -1.0, d.upper = 0.0; });
+  w.setLinearVelocity(ball, Vec3(0.0, 3.0, 0.0));
+  for (int i = 0; i < 6; ++i) w.step(kDt);
+  const double slack = w.jointPosition(rope);
+  EXPECT_LT(slack, -0.2);
+  w.setJointLimits(rope, false, 0.0, 0.0);
+  for (int i = 0; i < 60; ++i) w.step(kDt);
+  EXPECT_NEAR(w.jointPosition(rope), slack, 2e-3);
+  EXPECT_LT(w.linearVelocity(ball).norm(), 0.05);
+}
+
+// The setters refuse what createJoint refuses, naming their own fields, and leave the joint as
+// it was: the free door still turns past where the refused limits would have stopped it.
+TEST(Joint, BadSettingsNameTheirField) {
+  WorldDef def;
+  def.gravity = Vec3::Zero();
+  World w(def);
+  const JointDef d = doorHinge(w);
+  const JointId hinge = w.createJoint(d);
+  const BodyId hook = addStatic(w, Vec3(3.0, 1.0, 0.0));
+  const BodyId bob = addBall(w, 0.05, Vec3(3.0, 0.0, 0.0), 1.0);
+  const JointId ball = join(w, JointType::Ball, hook, bob, Vec3(3.0, 1.0, 0.0));
+  w.step(kDt);
+  const uint64_t before = w.stateHash();
+  const double nan = std::nan("");
+  const JointId stale{hinge.index, hinge.generation + 1};
+  const std::vector<std::pair<const char*, std::function<void()>>> cases = {
+      {"setJointLimits.id", [&] { w.setJointLimits(ball, true, -0.1, 0.1); }},
+      {"setJointLimits.id", [&] { w.setJointLimits(ball, false, 0.0, 0.0); }},
+      {"setJointLimits.id", [&] { w.setJointLimits(stale, true, -0.1, 0.1); }},
+      {"setJointLimits.lower", [&] { w.setJointLimits(hinge, true, 0.2, 0.1); }},
+      {"setJointLimits.lower", [&] { w.setJointLimits(hinge, true, nan, 0.1); }},
+      {"setJointLimits.upper", [&] { w.setJointLimits(hinge, true, -0.1, 4.0); }},
+      {"setJointSpring.id", [&] { w.setJointSpring(ball, true, 1.0, 0.0, 0.0); }},
+      {"setJointSpring.id", [&] { w.setJointSpring(JointId{}, true, 1.0, 0.0, 0.0); }},
+      {"setJointSpring.springHertz", [&] { w.setJointSpring(hinge, true, 0.0, 0.0, 0.0); }},
+      {"setJointSpring.springDampingRatio", [&] { w.setJointSpring(hinge, true, 1.0, -1.0, 0.0); }},
+      {"setJointSpring.springTarget", [&] { w.setJointSpring(hinge, true, 1.0, 0.0, INFINITY); }},
+      {"setJointLength.id", [&] { w.setJointLength(hinge, 1.0); }},
+      {"setJointLength.id", [&] { w.setJointLength(stale, 1.0); }},
+  };
+  for (const auto& [field, call] : cases) {
+    try {
+      call();
+      ADD_FAILURE() << "accepted a bad " << field;
+    } catch (const Error& e) {
+      EXPECT_EQ(e.field(), field);
+    }
+  }
+  EXPECT_EQ(w.stateHash(), before);
+  World hung;
+  const auto [weight, rod] = hangOnDistance(hung, 1.0, [](JointDef&) {});
+  for (double bad : {0.0, -1.0, nan}) {
+    try {
+      hung.setJointLength(rod, bad);
+      ADD_FAILURE() << "accepted a length of " << bad;
+    } catch (const Error& e) {
+      EXPECT_EQ(e.field(), "setJointLength.length");
+    }
+  }
+  for (int i = 0; i < 30; ++i) hung.step(kDt);
+  EXPECT_NEAR(hung.centerOfMass(weight).y(), 2.0, 1e-3);  // no length took hold
+  w.setAngularVelocity(d.b, Vec3(0.0, 1.0, 0.0));
+  w.setLinearVelocity(d.b, Vec3(0.0, 1.0, 0.0).cross(Vec3(0.4, 0.0, 0.0)));
+  for (int i = 0; i < 30; ++i) w.step(kDt);
+  EXPECT_NEAR(w.jointPosition(hinge), 0.5, 0.01);  // no limit at 0.1 took hold
+}
