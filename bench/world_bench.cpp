@@ -1,7 +1,9 @@
-// World step cost: resting stacks, resting piles, a pile being dropped; what a snapshot costs.
+// World step cost: resting stacks, resting piles, a pile being dropped; what a snapshot costs;
+// what queries cost in a world at rest and in a landing pile.
 #include <benchmark/benchmark.h>
 
 #include <chrono>
+#include <vector>
 
 #include "dynamics/scenes.hpp"
 
@@ -120,3 +122,65 @@ void BM_World_Snapshot(benchmark::State& state) {
 BENCHMARK(BM_World_Snapshot)->Arg(100)->Arg(1000)->Unit(benchmark::kMicrosecond);
 
 }  // namespace
+
+// `count` cubes of 0.1 m on a grid 0.3 m apart (none touching), asleep on the ground.
+World restingGrid(int count) {
+  World w;
+  scenes::addGround(w);
+  int side = 1;
+  while (side * side < count) ++side;
+  const ShapePtr cube = Shape::box(Vec3::Constant(0.05));
+  for (int i = 0; i < count; ++i) {
+    BodyDef d;
+    d.shape = cube;
+    d.position = Vec3((i % side) * 0.3, 0.05, (i / side) * 0.3);
+    w.createBody(d);
+  }
+  for (int i = 0; i < 120; ++i) w.step(1.0 / 60.0);
+  return w;
+}
+
+// One overlap of a finger bone (a capsule of 1 cm radius, 4 cm long) between the cubes and one
+// ray down onto them, in a world of `count` cubes at rest: what a hand's contact search pays
+// per bone among that many objects.
+void BM_World_QueryAtRest(benchmark::State& state) {
+  const World w = restingGrid(static_cast<int>(state.range(0)));
+  const ShapePtr bone = Shape::capsule(0.01, 0.02);
+  std::vector<OverlapHit> hits;
+  int k = 0;
+  for (auto _ : state) {
+    const double x = 0.15 + (k++ % 10) * 0.3;
+    w.overlap(*bone, Transform{Vec3(x, 0.2, 0.15), Quat::Identity()}, 0.01, hits);
+    benchmark::DoNotOptimize(w.rayCast(Vec3(x - 0.15, 1.0, 0.0), Vec3(0.0, -1.0, 0.0), 2.0));
+  }
+  state.counters["bodies"] = w.bodyCount();
+}
+BENCHMARK(BM_World_QueryAtRest)->Arg(1000)->Arg(10000)->Unit(benchmark::kMicrosecond);
+
+// The 1000-box pile landing (every box moving): a step, then `range(0)` overlaps and rays
+// among the boxes; the time is the queries' (the step's paused out), per step.
+void BM_World_QueryLandingPile(benchmark::State& state) {
+  World w;
+  scenes::addGround(w);
+  scenes::addBoxPile(w, 1000);
+  for (int i = 0; i < 30; ++i) w.step(1.0 / 60.0);
+  const ShapePtr bone = Shape::capsule(0.01, 0.02);
+  std::vector<OverlapHit> hits;
+  const int queries = static_cast<int>(state.range(0));
+  for (auto _ : state) {
+    state.PauseTiming();
+    w.step(1.0 / 60.0);
+    state.ResumeTiming();
+    for (int q = 0; q < queries; ++q) {
+      const double x = -0.5 + 0.05 * (q % 20);
+      w.overlap(*bone, Transform{Vec3(x, 0.3, 0.1), Quat::Identity()}, 0.01, hits);
+      benchmark::DoNotOptimize(w.rayCast(Vec3(x, 3.0, 0.0), Vec3(0.0, -1.0, 0.0), 5.0));
+    }
+  }
+}
+BENCHMARK(BM_World_QueryLandingPile)
+    ->Arg(1)
+    ->Arg(16)
+    ->Arg(64)
+    ->Unit(benchmark::kMicrosecond)
+    ->Iterations(120);

@@ -338,6 +338,10 @@ class World {
   void overlap(const Shape& shape, const Transform& t, double margin, std::vector<OverlapHit>& hits,
                const QueryFilter& filter = {}) const;
   SurfacePoint closestPoint(BodyId id, const Vec3& worldPoint) const;
+  // The bodies whose bounds overlap `box` (Box2D's b2World_OverlapAABB, Jolt's CollideAABox), in
+  // body order: a broadphase question, no shapes tested.
+  void queryBounds(const Aabb& box, std::vector<BodyId>& bodies,
+                   const QueryFilter& filter = {}) const;
 
   // Events of the last step, in a deterministic order.
   const std::vector<ContactEvent>& contactBeginEvents() const;

@@ -965,7 +965,7 @@ void World::Impl::solve(double dt) {
       b.com += s.dp;
       b.pose.q = (s.dq * b.pose.q).normalized();
       b.pose.p = b.com - b.pose.q * b.localCom;
-      refreshBounds(b);
+      refreshBounds(awakeBodies[k]);
     }
   });
 }

@@ -26,6 +26,7 @@ void World::step(double dt) {
   Impl& w = *impl_;
   w.beginEvents.clear(), w.endEvents.clear(), w.sensorBegin.clear(), w.sensorEnd.clear();
   w.jointBreaks.clear();
+  w.queries.dirty = true;  // the solve moves boxes
   if (w.jointAliveCount > 0) w.wakeJoinedBodies();
   // A body woke: collide again so its island sees its resting contacts (and so on, should
   // that island touch another sleeping one; each round wakes one more island, so it ends).

@@ -91,8 +91,10 @@ const Body& World::Impl::body(BodyId id, const char* field) const {
   return const_cast<Impl*>(this)->body(id, field);
 }
 
-void World::Impl::refreshBounds(Body& b) const {
-  b.aabb = b.shape->bounds(b.pose);
+void World::Impl::refreshBounds(uint32_t slot) {
+  bodies[slot].aabb = bodies[slot].shape->bounds(bodies[slot].pose);
+  queries.boxes[slot] = bodies[slot].aabb;  // (the solve's two regions write different slots)
+  queries.moved[slot] = 1;
 }
 
 void World::Impl::wakeBody(uint32_t slot) {
@@ -184,7 +186,6 @@ BodyId World::createBody(const BodyDef& d) {
   }
   b.com = b.pose.apply(b.localCom);
   b.restartCalm();
-  impl_->refreshBounds(b);
 
   uint32_t slot;
   if (!impl_->freeSlots.empty()) {
@@ -197,7 +198,11 @@ BodyId World::createBody(const BodyDef& d) {
     slot = static_cast<uint32_t>(impl_->bodies.size());
     b.generation = 1;
     impl_->bodies.push_back(std::move(b));
+    impl_->queries.moved.push_back(1);
+    impl_->queries.boxes.emplace_back();
   }
+  impl_->refreshBounds(slot);
+  impl_->queries.dirty = true;
   ++impl_->aliveCount;
   return BodyId{slot, impl_->bodies[slot].generation};
 }
@@ -219,6 +224,7 @@ void World::destroyBody(BodyId id) {
   std::erase_if(impl_->sensorPairs, [&](const detail::SensorPair& p) {
     return p.sensor == id.index || p.visitor == id.index;
   });
+  impl_->queries.boxes[id.index] = Impl::QueryIndex::nothing();  // found by no query
   const uint32_t generation = b.generation;  // kept so the slot's next body gets a new one
   b = Body{};
   b.generation = generation;
@@ -430,7 +436,8 @@ void World::setPose(BodyId id, const Vec3& p, const Quat& q) {
   b.pose.p = p;
   b.pose.q = q.normalized();
   b.com = b.pose.apply(b.localCom);
-  impl_->refreshBounds(b);
+  impl_->refreshBounds(id.index);
+  impl_->queries.dirty = true;
   impl_->wakeBody(id.index);
 }
 
@@ -516,21 +523,60 @@ void World::wake(BodyId id) {
 
 // ---- queries ------------------------------------------------------------------------------
 
-namespace {
-bool rayHitsBox(const Aabb& b, const Vec3& o, const Vec3& d, double maxT) {
-  double t0 = 0.0, t1 = maxT;
-  for (int i = 0; i < 3; ++i) {
-    if (std::abs(d[i]) < 1e-300) {
-      if (o[i] < b.min[i] || o[i] > b.max[i]) return false;
-      continue;
-    }
-    double a = (b.min[i] - o[i]) / d[i], c = (b.max[i] - o[i]) / d[i];
-    if (a > c) std::swap(a, c);
-    t0 = std::max(t0, a);
-    t1 = std::min(t1, c);
-    if (t0 > t1) return false;
+// A query's candidates: the tree's bodies that have not moved since it was built, and the
+// moved ones by their current boxes; ascending, so the hits and their ties come in body order.
+template <class Tree, class Loose>
+void World::Impl::candidates(const Tree& treeHits, const Loose& looseHit,
+                             std::vector<uint32_t>& out) const {
+  // Moved bodies tested one by one, per body in the world, before the tree is built again: a
+  // build costs about as much as that many tests (30 against 2 ns a body), so a world that
+  // moves and queries little pays at most about twice what testing every body would (ski
+  // rental), and one that rests, or asks many queries a step, walks the tree.
+  constexpr size_t kTestsPerBuild = 15;
+  out.clear();
+  const std::lock_guard<std::mutex> hold(queries.lock);
+  QueryIndex& q = queries;
+  if (q.dirty) {
+    q.movedList.clear();
+    for (uint32_t i = 0; i < q.moved.size(); ++i)
+      if (q.moved[i]) q.movedList.push_back(i);
+    q.dirty = false;
   }
-  return true;
+  q.looseTests += q.movedList.size();
+  if (q.looseTests > kTestsPerBuild * bodies.size()) {
+    std::vector<Aabb> boxes;
+    std::vector<uint32_t> slots;
+    for (uint32_t i = 0; i < q.boxes.size(); ++i)
+      if (q.boxes[i].min.x() <= q.boxes[i].max.x()) boxes.push_back(q.boxes[i]), slots.push_back(i);
+    q.tree.build(boxes, slots);
+    std::fill(q.moved.begin(), q.moved.end(), uint8_t{0});
+    q.movedList.clear();
+    q.looseTests = 0;
+  }
+  treeHits(q.tree, [&](uint32_t slot) {
+    if (!q.moved[slot]) out.push_back(slot);
+  });
+  for (uint32_t slot : q.movedList)
+    if (looseHit(q.boxes[slot])) out.push_back(slot);
+  std::sort(out.begin(), out.end());
+}
+
+void World::Impl::queryCandidates(const Aabb& box, std::vector<uint32_t>& out) const {
+  candidates([&](const AabbTree& t, const auto& visit) { t.query(box, visit); },
+             [&](const Aabb& b) { return b.overlaps(box); }, out);
+}
+
+void World::Impl::rayCandidates(const Vec3& origin, const Vec3& dir, double maxT,
+                                std::vector<uint32_t>& out) const {
+  candidates([&](const AabbTree& t, const auto& visit) { t.rayQuery(origin, dir, maxT, visit); },
+             [&](const Aabb& b) { return AabbTree::rayMeetsBox(b, origin, dir, maxT); }, out);
+}
+
+namespace {
+// Each thread's candidates, kept between its queries.
+std::vector<uint32_t>& candidateScratch() {
+  thread_local std::vector<uint32_t> slots;
+  return slots;
 }
 
 // Whether a query with this filter sees the body (sensors it never does).
@@ -552,10 +598,12 @@ std::optional<WorldRayHit> World::rayCast(const Vec3& origin, const Vec3& dir, d
   validateRay(origin, dir, maxDistance, "rayCast.origin", "rayCast.dir", "rayCast.maxDistance");
   std::optional<WorldRayHit> best;
   double bestT = maxDistance;
-  for (uint32_t i = 0; i < impl_->bodies.size(); ++i) {
+  std::vector<uint32_t>& slots = candidateScratch();
+  impl_->rayCandidates(origin, dir, maxDistance, slots);
+  for (uint32_t i : slots) {
     const Body& b = impl_->bodies[i];
     if (!seenBy(b, filter)) continue;
-    if (!rayHitsBox(b.aabb, origin, dir, bestT)) continue;
+    if (!AabbTree::rayMeetsBox(b.aabb, origin, dir, bestT)) continue;
     RayHit h;
     if (grip::rayCast(*b.shape, b.pose, origin, dir, bestT, h) && (!best || h.distance < bestT)) {
       bestT = h.distance;
@@ -576,10 +624,11 @@ std::optional<WorldRayHit> World::shapeCast(const Shape& shape, const Transform&
   const Aabb swept = shape.bounds(pose).sweptAlong(dir, maxDistance);
   std::optional<WorldRayHit> best;
   double bestT = maxDistance;
-  for (uint32_t i = 0; i < impl_->bodies.size(); ++i) {
+  std::vector<uint32_t>& slots = candidateScratch();
+  impl_->queryCandidates(swept, slots);
+  for (uint32_t i : slots) {
     const Body& b = impl_->bodies[i];
     if (!seenBy(b, filter)) continue;
-    if (!b.aabb.overlaps(swept)) continue;
     RayHit h;
     if (grip::shapeCast(*b.shape, b.pose, shape, pose, dir, bestT, h) &&
         (!best || h.distance < bestT)) {
@@ -617,14 +666,29 @@ void World::overlap(const Shape& shape, const Transform& t, double margin,
   if (shape.type() == ShapeType::Plane) throw Error("overlap.shape", "cannot be a plane");
   hits.clear();
   const Aabb box = shape.bounds(t).inflated(margin);
-  std::vector<Manifold>& scratch = impl_->scratch;
-  for (uint32_t i = 0; i < impl_->bodies.size(); ++i) {
+  thread_local std::vector<Manifold> scratch;
+  std::vector<uint32_t>& slots = candidateScratch();
+  impl_->queryCandidates(box, slots);
+  for (uint32_t i : slots) {
     const Body& b = impl_->bodies[i];
-    if (!seenBy(b, filter) || !b.aabb.overlaps(box)) continue;
+    if (!seenBy(b, filter)) continue;
     scratch.clear();
     collide(shape, t, *b.shape, b.pose, margin, scratch);
     for (const Manifold& m : scratch) hits.push_back(OverlapHit{impl_->idOf(i), m});
   }
+}
+
+void World::queryBounds(const Aabb& box, std::vector<BodyId>& out,
+                        const QueryFilter& filter) const {
+  requireFinite(box.min, "queryBounds.box.min");
+  requireFinite(box.max, "queryBounds.box.max");
+  if (!(box.min.array() <= box.max.array()).all())
+    throw Error("queryBounds.box", "min must not exceed max");
+  out.clear();
+  std::vector<uint32_t>& slots = candidateScratch();
+  impl_->queryCandidates(box, slots);
+  for (uint32_t i : slots)
+    if (seenBy(impl_->bodies[i], filter)) out.push_back(impl_->idOf(i));
 }
 
 SurfacePoint World::closestPoint(BodyId id, const Vec3& x) const {

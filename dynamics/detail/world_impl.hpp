@@ -7,10 +7,12 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <mutex>
 #include <string>
 #include <tuple>
 #include <vector>
 
+#include "collision/aabb_tree.hpp"
 #include "collision/broadphase.hpp"
 #include "dynamics/detail/workers.hpp"
 #include "dynamics/world.hpp"
@@ -425,7 +427,27 @@ struct World::Impl {
   std::vector<uint8_t> bodyRegion;  // per body slot: its region, kNoRegion if it does not move
   std::vector<uint8_t> stillBody;   // per body slot: alive and not moving (assignRegions)
   std::vector<std::pair<uint32_t, uint32_t>> pairs;
-  std::vector<Manifold> scratch;             // for queries
+  // The queries' index (world.cpp, "queries"): a tree over the bodies' boxes as they were when
+  // it was built, and the bodies whose boxes changed since, tested one by one until testing
+  // them has cost about a build. Built by the first query that needs it,
+  // under `lock`, so that queries may run on several threads at once between steps.
+  struct QueryIndex {
+    static Aabb nothing() { return {Vec3::Constant(1.0), Vec3::Constant(-1.0)}; }  // meets none
+    AabbTree tree;
+    // Per body slot: its box (nothing() for a free slot), kept here together so that the loose
+    // tests and a build do not walk the bodies' cache lines; whether it changed since the build.
+    std::vector<Aabb> boxes;
+    std::vector<uint8_t> moved;
+    std::vector<uint32_t> movedList;  // the moved slots, ascending, as of `dirty` last clear
+    bool dirty = true;                // boxes may have changed since movedList was made
+    size_t looseTests = 0;            // moved bodies tested one by one since the build
+    struct Lock : std::mutex {        // not copied with the world: a copy has its own
+      Lock() = default;
+      Lock(const Lock&) {}
+      Lock& operator=(const Lock&) { return *this; }
+    } lock;
+  };
+  mutable QueryIndex queries;
   detail::NarrowphaseOut narrowphaseOut[2];  // per region
   int regionCount = 1;                       // this step's (assignRegions)
   std::vector<uint32_t> regionSlots;         // the moving bodies, region 0's first (assignRegions)
@@ -558,7 +580,15 @@ struct World::Impl {
   template <class Change>
   void changeAxisDrive(uint32_t slot, const Change& change);
   void wakeAround(uint32_t slot);  // the body, and every body near it
-  void refreshBounds(detail::Body& b) const;
+  // The body's box from its pose, after every pose change (createBody, setPose, the solve).
+  void refreshBounds(uint32_t slot);
+  // The slots of the bodies whose boxes may overlap `box` or meet the ray, ascending (as the
+  // queries visited every body before the tree: the same hits in the same order).
+  void queryCandidates(const Aabb& box, std::vector<uint32_t>& out) const;
+  void rayCandidates(const Vec3& origin, const Vec3& dir, double maxT,
+                     std::vector<uint32_t>& out) const;
+  template <class Tree, class Loose>
+  void candidates(const Tree& treeHits, const Loose& looseHit, std::vector<uint32_t>& out) const;
   bool calm(const detail::Body& b, double dt) const;
 };
 

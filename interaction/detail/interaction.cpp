@@ -184,9 +184,7 @@ struct Interaction::Impl {
   std::vector<HandContactEvent> beginEvents, endEvents;
   std::vector<std::pair<BodyId, Vec3>> applied;  // per touched body, sorted
   InteractionStats stats;
-  std::vector<BodyId> dynamicBodies;  // cached; refreshed when bodies come or go
-  std::vector<Aabb> dynamicBounds;    // their bounds, read once per update
-  std::vector<BodyId> bodyScratch;
+  std::vector<BodyId> nearBodies;  // scratch (keepPressingContact)
   std::array<int, kBonesPerHand> boneContact{};
   // Scratch, reused every update so the hot path does not allocate.
   std::vector<OverlapHit> hits;
@@ -246,8 +244,7 @@ struct Interaction::Impl {
   Transform sweptBonePose(const World& w, const Hand& h, int bone, double reach) const;
   void dropDeadContacts(const World& w);
   void findContacts(const World& w);
-  void refreshDynamicBodies(const World& w);
-  bool keepPressingContact(uint32_t hand, int bone, double reach);
+  bool keepPressingContact(const World& w, uint32_t hand, int bone, double reach);
   void centreOnContactLine(const World& w, BodyId body, const Shape& bone, const Transform& pose,
                            const Vec3& normal, Vec3& point) const;
   void refineOnDistanceField(const World& w, BodyId body, const Shape& bone, const Transform& pose,
@@ -344,7 +341,6 @@ Transform Interaction::Impl::sweptBonePose(const World& w, const Hand& h, int bo
 void Interaction::Impl::findContacts(const World& w) {
   for (Contact& c : contacts) c.seen = false;
   const double reach = def.contactOffset + def.releaseMargin;
-  refreshDynamicBodies(w);
   for (uint32_t hi = 0; hi < hands.size(); ++hi) {
     const Hand& h = hands[hi];
     if (!h.alive || !h.active) continue;
@@ -356,7 +352,7 @@ void Interaction::Impl::findContacts(const World& w) {
       slot = slot == -1 ? static_cast<int>(i) : -2;
     }
     for (int bone = 0; bone < kBonesPerHand; ++bone) {
-      if (keepPressingContact(hi, bone, reach)) continue;
+      if (keepPressingContact(w, hi, bone, reach)) continue;
       hits.clear();
       // A bone pressing a body is tested where it is; a free or merely touching one is swept.
       const bool pressing = boneContact[bone] >= 0 && contacts[boneContact[bone]].anchored;
@@ -476,37 +472,22 @@ void Interaction::Impl::centreOnContactLine(const World& w, BodyId body, const S
   if (std::isfinite(y)) point += (y - axis.dot(point - pose.p)) * axis;
 }
 
-// The dynamic bodies of the world, cached: World::bodies() returns a new vector, so it is only
-// called when the cached list is stale (a body count change or a cached id gone). Their bounds
-// are read once per update, for keepPressingContact.
-void Interaction::Impl::refreshDynamicBodies(const World& w) {
-  bool stale = bodyScratch.size() != static_cast<size_t>(w.bodyCount());
-  for (size_t i = 0; !stale && i < bodyScratch.size(); ++i) stale = !w.isValid(bodyScratch[i]);
-  if (stale) {
-    bodyScratch = w.bodies();
-    dynamicBodies.clear();
-    for (BodyId b : bodyScratch) {
-      if (w.bodyType(b) == BodyType::Dynamic) dynamicBodies.push_back(b);
-    }
-  }
-  dynamicBounds.clear();
-  for (BodyId b : dynamicBodies) dynamicBounds.push_back(w.bounds(b));
-}
-
 // A bone pressing into a body, with no other dynamic body's bounds near it, needs no overlap
 // query this step: it is inside the body it presses (the patch lets go when the press turns
 // tensile, and the next query then decides whether the contact ends). The narrowphase query is
-// most of the cost of a firm grasp; this skips it exactly when it cannot find anything new.
-bool Interaction::Impl::keepPressingContact(uint32_t hand, int bone, double reach) {
+// most of the cost of a firm grasp; this skips it exactly when it cannot find anything new
+// (the bodies near the bone from the world's query tree: walking every body's bounds here cost
+// more than the query it saved in a room of objects).
+bool Interaction::Impl::keepPressingContact(const World& w, uint32_t hand, int bone, double reach) {
   const int index = boneContact[bone];
   if (index < 0) return false;  // none, or contacts with several bodies
   Contact& c = contacts[index];
   if (!c.anchored || c.passive) return false;
   const Hand& h = hands[hand];
   const Aabb box = h.shapes.bones[bone]->bounds(h.tracked.bones[bone]).inflated(reach);
-  for (size_t i = 0; i < dynamicBodies.size(); ++i) {
-    if (dynamicBodies[i] != c.body && dynamicBounds[i].overlaps(box)) return false;
-  }
+  w.queryBounds(box, nearBodies, def.touchable);  // (what the overlap query could find)
+  for (BodyId b : nearBodies)
+    if (b != c.body && w.bodyType(b) == BodyType::Dynamic) return false;
   c.seen = true;
   return true;
 }

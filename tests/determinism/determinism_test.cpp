@@ -6,6 +6,8 @@
 #include <cmath>
 #include <cstdio>
 #include <map>
+#include <thread>
+#include <vector>
 
 #include "scenes.hpp"
 
@@ -123,4 +125,34 @@ TEST(Determinism, AnyNumberOfThreadsGivesTheSameRun) {
   const uint64_t one = run(1);
   EXPECT_EQ(run(2), one);
   EXPECT_EQ(run(3), one);
+}
+
+// Queries are const and may run on several threads at once between steps (as Jolt's and
+// Box2D's): two threads asking at once, while their first queries build the query tree, get
+// what one thread gets asking alone in a copy of the world.
+TEST(Determinism, AnyNumberOfThreadsMayQueryAtOnce) {
+  World w;
+  scenes::addGround(w);
+  scenes::addBoxPile(w, 300);
+  for (int i = 0; i < 60; ++i) w.step(1.0 / 60.0);
+  auto ask = [](const World& view, std::vector<uint32_t>& out) {
+    const ShapePtr ball = Shape::sphere(0.3);
+    std::vector<OverlapHit> hits;
+    for (int q = 0; q < 200; ++q) {
+      const double x = -1.5 + 0.015 * q;
+      view.overlap(*ball, Transform{Vec3(x, 0.3, 0.0), Quat::Identity()}, 0.0, hits);
+      for (const OverlapHit& h : hits) out.push_back(h.body.index);
+      const auto ray = view.rayCast(Vec3(x, 3.0, 0.2), Vec3(0, -1, 0), 5.0);
+      out.push_back(ray ? ray->body.index : ~0u);
+    }
+  };
+  const World alone(w);
+  std::vector<uint32_t> one, two, single;
+  std::thread other([&] { ask(w, two); });
+  ask(w, one);
+  other.join();
+  ask(alone, single);
+  EXPECT_GT(one.size(), 400u);
+  EXPECT_EQ(one, single);
+  EXPECT_EQ(two, single);
 }
