@@ -69,7 +69,8 @@ using JointId = Id<JointTag>;
 // How a joint holds two bodies together, at its anchor and along its axis, as they were when
 // it was made:
 //   Fixed   welds them: no relative motion.
-//   Ball    a ball and socket: the anchor stays one point of both; they turn freely about it.
+//   Ball    a ball and socket: the anchor stays one point of both; they turn freely about it
+//           (within a cone, if given one).
 //   Hinge   a door's hinge: a ball joint that turns about the axis only.
 //   Slider  a drawer's rail: b slides along the axis, neither turns against the other.
 enum class JointType : uint8_t { Fixed, Ball, Hinge, Slider, Distance };
@@ -106,6 +107,11 @@ struct JointDef {
   double springHertz = 0.0;
   double springDampingRatio = 0.0;
   double springTarget = 0.0;
+  // Ball joints: a cone that b's copy of `axis` stays within about a's (the swing, rad, in
+  // (0, pi); Jolt's swing-twist cone, PhysX's limit cone): a shoulder, a hanging lamp that
+  // must not swing into the ceiling. The twist about the axis stays free.
+  bool enableCone = false;
+  double coneAngle = 0.0;
   bool collideConnected = false;  // false: the two bodies make no contacts with each other
   // The joint breaks (goes, reported by jointBreakEvents) at the end of a step whose last
   // substep had it exert more than `breakForce` (N) on b, or more than `breakTorque` (N m)

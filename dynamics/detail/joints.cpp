@@ -77,9 +77,22 @@ void jointRows(const Joint& j, const JointPose& pa, const JointPose& pb, JointRo
     case JointType::Fixed:
       lockPoint(), lockTurning();
       break;
-    case JointType::Ball:
+    case JointType::Ball: {
       lockPoint();
+      if (!j.enableLimit) break;
+      // The cone: the swing is the angle between the two copies of the axis, turned about
+      // their cross product (any normal to a's where they are parallel: far from the cone).
+      const Vec3 a = pa.R * j.axisA, b = pb.R * j.axisB, across = a.cross(b);
+      const double s = across.norm();
+      Vec3 n, unused;
+      if (s > 1e-12)
+        n = across / s;
+      else
+        tangentBasis(a, n, unused);
+      out.position = std::atan2(s, a.dot(b));
+      out.limit = {Vec3::Zero(), n, n, 0.0};
       break;
+    }
     case JointType::Hinge: {
       lockPoint();
       // The two axes stay parallel: a x b is the turn off the axis (to first order).
@@ -401,6 +414,11 @@ void World::Impl::solveJoints(double h, bool useBias) {
       else if (useBias)
         b.bias = soft.biasRate * side.error, b.massScale = soft.massScale,
         b.impulseScale = soft.impulseScale;
+      // A cone is one block with the point it turns about, soft as the point is: a ball hung
+      // far from its centre turns a lot for the cone's impulse, and the point held softly
+      // after a rigid stop let go 5 cm and threw the ball back faster than it came.
+      if (j.type == JointType::Ball && useBias)
+        b.massScale = soft.massScale, b.impulseScale = soft.impulseScale;
       b.lo = 0.0;
     }
     // A later block softens the locked rows: until then they are only held rigid.
@@ -498,6 +516,13 @@ JointId World::createJoint(const JointDef& d) {
   if (!(length > 1e-12) || !std::isfinite(length))
     throw Error("JointDef.axis", "must have a length above zero");
   if (d.enableLimit) checkLimit(d.type, d.lower, d.upper, "JointDef", "JointDef.enableLimit");
+  if (d.enableCone) {
+    if (d.type != JointType::Ball)
+      throw Error("JointDef.enableCone", "only ball joints have a cone");
+    requireFinite(d.coneAngle, "JointDef.coneAngle");
+    if (!(d.coneAngle > 0.0 && d.coneAngle < kPi))
+      throw Error("JointDef.coneAngle", "must be within (0, pi)");
+  }
   if (d.enableMotor)
     checkMotor(d.type, d.motorSpeed, d.maxMotorForce, "JointDef", "JointDef.enableMotor");
   // Positive; infinity (the default) never breaks.
@@ -523,6 +548,8 @@ JointId World::createJoint(const JointDef& d) {
   j.reference = A.pose.q.conjugate() * B.pose.q;
   j.enableLimit = d.enableLimit, j.collideConnected = d.collideConnected;
   j.lower = d.lower, j.upper = d.upper;
+  // A ball joint's cone is its limit on the swing (in [0, pi]): only the upper side ever holds.
+  if (d.enableCone) j.enableLimit = true, j.lower = -kPi, j.upper = d.coneAngle;
   j.enableMotor = d.enableMotor, j.motorSpeed = d.motorSpeed, j.maxMotorForce = d.maxMotorForce;
   j.enableSpring = d.enableSpring, j.springHertz = d.springHertz;
   j.springDampingRatio = d.springDampingRatio, j.springTarget = d.springTarget;

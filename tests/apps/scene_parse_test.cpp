@@ -31,7 +31,7 @@ json minimal() {
     "joints": [{"type": "hinge", "a": "floor", "b": "a", "anchor": [0, 1, 0.3], "axis": [0, 0, 2],
                 "limit": [-1, 0.5], "motor": {"speed": 0.5, "maxForce": 2}},
                {"type": "ball", "a": "b", "b": "c", "anchor": [0, 0, 0], "collideConnected": true,
-                "breakForce": 50, "breakTorque": 5},
+                "breakForce": 50, "breakTorque": 5, "cone": 0.4},
                {"type": "slider", "a": "floor", "b": "d", "anchor": [0, 0, 0],
                 "spring": {"hertz": 2, "dampingRatio": 0.5, "target": 0.1}},
                {"type": "distance", "a": "a", "b": "d", "anchor": [0, 1, 0], "anchorB": [0, 0, 0],
@@ -90,6 +90,9 @@ TEST(SceneParse, AValidSceneFillsTheDefs) {
   EXPECT_FALSE(s.joints[1].def.enableLimit);
   EXPECT_DOUBLE_EQ(s.joints[1].def.breakForce, 50.0);
   EXPECT_DOUBLE_EQ(s.joints[1].def.breakTorque, 5.0);
+  EXPECT_TRUE(s.joints[1].def.enableCone);
+  EXPECT_DOUBLE_EQ(s.joints[1].def.coneAngle, 0.4);
+  EXPECT_FALSE(s.joints[0].def.enableCone);
   EXPECT_TRUE(std::isinf(s.joints[0].def.breakForce));  // never, unless given
   ASSERT_EQ(s.joints.size(), 4u);
   EXPECT_EQ(s.joints[3].def.type, JointType::Distance);
@@ -136,6 +139,9 @@ TEST(SceneParse, ErrorsNameTheJsonPath) {
       {"joints[1].limit", "[0, 1]",
        "joints[1].limit: only hinges, sliders and distance joints have limits"},
       {"joints[1].anchor", "[0, 1]", "joints[1].anchor: must be an array of 3 numbers"},
+      {"joints[0].cone", "0.5", "joints[0].cone: only ball joints have a cone"},
+      {"joints[1].cone", "0", "joints[1].cone: must be within (0, pi) rad"},
+      {"joints[1].cone", "3.5", "joints[1].cone: must be within (0, pi) rad"},
       {"joints[1].motor", "{\"maxForce\": 1}",
        "joints[1].motor: only hinges, sliders and distance joints have motors"},
       {"joints[0].motor.maxForce", "-1", "joints[0].motor.maxForce: must not be negative"},

@@ -389,6 +389,11 @@ TEST(Joint, BadDefinitionsNameTheirField) {
   bad("JointDef.breakForce", [](JointDef& d) { d.breakForce = 0.0; });
   bad("JointDef.breakForce", [&](JointDef& d) { d.breakForce = nan; });
   bad("JointDef.breakTorque", [](JointDef& d) { d.breakTorque = -1.0; });
+  bad("JointDef.enableCone", [](JointDef& d) { d.enableCone = true, d.coneAngle = 0.5; });
+  for (double angle : {0.0, -0.1, 3.2, nan})
+    bad("JointDef.coneAngle", [angle](JointDef& d) {
+      d.type = JointType::Ball, d.enableCone = true, d.coneAngle = angle;
+    });
   for (const Case& c : cases) {
     try {
       w.createJoint(c.def);
@@ -907,4 +912,77 @@ TEST(Joint, BadSettingsNameTheirField) {
   w.setLinearVelocity(d.b, Vec3(0.0, 1.0, 0.0).cross(Vec3(0.4, 0.0, 0.0)));
   for (int i = 0; i < 30; ++i) w.step(kDt);
   EXPECT_NEAR(w.jointPosition(hinge), 0.5, 0.01);  // no limit at 0.1 took hold
+}
+
+// A ball joint's cone (Jolt's swing-twist cone, PhysX's limit cone): a 1 kg ball hung 1 m below
+// a hook on a ball joint whose cone of 0.3 rad points down, kicked sideways at 3 m/s (free, it
+// swings out to 1 rad), swings out to the cone and no further; within the cone it swings as
+// without one, and it turns freely about the axis (the twist). A ball held out level on a
+// horizontal cone of 0.5 rad sags to the cone and rests there, the joint holding the weight's
+// moment m g L cos 0.5.
+TEST(Joint, ABallJointsConeStopsTheSwingAndLeavesTheTwist) {
+  auto hang = [](World& w, bool cone) {
+    const BodyId hook = addStatic(w, Vec3(0.0, 3.0, 0.0));
+    const BodyId ball = addBall(w, 0.05, Vec3(0.0, 2.0, 0.0), 1.0);
+    JointDef d;
+    d.type = JointType::Ball;
+    d.a = hook, d.b = ball;
+    d.anchor = Vec3(0.0, 3.0, 0.0), d.axis = Vec3(0.0, -1.0, 0.0);
+    d.enableCone = cone, d.coneAngle = 0.3;
+    w.createJoint(d);
+    return ball;
+  };
+  auto swing = [](const World& w, BodyId ball) {
+    const Vec3 arm = w.centerOfMass(ball) - Vec3(0.0, 3.0, 0.0);
+    return std::atan2(std::hypot(arm.x(), arm.z()), -arm.y());
+  };
+  for (const double kick : {3.0, 10.0, 0.5}) {  // out to the cone, hard; within it (0.16 rad)
+    World free, coned;
+    const BodyId a = hang(free, false), b = hang(coned, true);
+    free.setLinearVelocity(a, Vec3(kick, 0.0, 0.0)),
+        coned.setLinearVelocity(b, Vec3(kick, 0.0, 0.0));
+    double widestFree = 0.0, widest = 0.0, apart = 0.0;
+    for (int i = 0; i < 180; ++i) {
+      free.step(kDt), coned.step(kDt);
+      widestFree = std::max(widestFree, swing(free, a));
+      widest = std::max(widest, swing(coned, b));
+      apart = std::max(apart, (free.centerOfMass(a) - coned.centerOfMass(b)).norm());
+    }
+    if (kick > 1.0) {
+      EXPECT_GT(widestFree, 0.9);
+      EXPECT_LT((coned.centerOfMass(b) - Vec3(0.0, 3.0, 0.0)).norm(), 1.0 + 1e-3);
+      EXPECT_LT(widest, 0.3 + 0.005);
+      EXPECT_GT(widest, 0.3 - 0.005);
+      EXPECT_LT(totalEnergy(coned), totalEnergy(free));  // the stops take energy, never give
+    } else {
+      EXPECT_LT(widestFree, 0.2);
+      EXPECT_LT(apart, 1e-9);  // the cone never touched
+    }
+  }
+  {  // the twist: spinning about the axis, nothing holds it
+    World w;
+    const BodyId ball = hang(w, true);
+    w.setAngularVelocity(ball, Vec3(0.0, 2.0, 0.0));
+    for (int i = 0; i < 60; ++i) w.step(kDt);
+    EXPECT_NEAR(w.angularVelocity(ball).y(), 2.0, 1e-6);
+    EXPECT_LT(swing(w, ball), 1e-6);
+  }
+  World w;
+  const BodyId hook = addStatic(w, Vec3(0.0, 3.0, 0.0));
+  const BodyId ball = addBall(w, 0.05, Vec3(1.0, 3.0, 0.0), 1.0);
+  JointDef d;
+  d.type = JointType::Ball;
+  d.a = hook, d.b = ball;
+  d.anchor = Vec3(0.0, 3.0, 0.0), d.axis = Vec3::UnitX();
+  d.enableCone = true, d.coneAngle = 0.5;
+  const JointId joint = w.createJoint(d);
+  for (int i = 0; i < 240; ++i) w.step(kDt);
+  const Vec3 rest(std::cos(0.5), 3.0 - std::sin(0.5), 0.0);
+  EXPECT_LT((w.centerOfMass(ball) - rest).norm(), 5e-3);
+  EXPECT_LT(w.linearVelocity(ball).norm(), 0.01);
+  const Vec3 torque = w.jointTorque(joint);
+  EXPECT_NEAR(std::abs(torque.z()), kG * std::cos(0.5), 0.01 * kG * std::cos(0.5));
+  EXPECT_NEAR(torque.x(), 0.0, 1e-3);
+  EXPECT_NEAR(torque.y(), 0.0, 1e-3);
+  EXPECT_NEAR(w.jointForce(joint).y(), kG, 0.01 * kG);  // the weight, through the point
 }

@@ -674,7 +674,7 @@ int bodyByName(const json& j, const std::string& path, const Scene& s) {
 
 JointSpec parseJoint(const json& j, const std::string& path, const Scene& s) {
   object(j, path,
-         {"type", "a", "b", "anchor", "anchorB", "axis", "limit", "motor", "spring",
+         {"type", "a", "b", "anchor", "anchorB", "axis", "limit", "cone", "motor", "spring",
           "collideConnected", "breakForce", "breakTorque"});
   JointSpec js;
   JointDef& d = js.def;
@@ -704,6 +704,12 @@ JointSpec parseJoint(const json& j, const std::string& path, const Scene& s) {
     if (d.lower > d.upper) fail(index(p, 0), "must not exceed upper");
     if (d.type == JointType::Hinge && (d.lower < -kPi || d.upper > kPi))
       fail(p, "a hinge's limits must be within [-pi, pi] rad");
+  });
+  opt(j, path, "cone", [&](const json& v, const std::string& p) {
+    if (d.type != JointType::Ball) fail(p, "only ball joints have a cone");
+    d.enableCone = true;
+    d.coneAngle = number(v, p);
+    if (!(d.coneAngle > 0.0 && d.coneAngle < kPi)) fail(p, "must be within (0, pi) rad");
   });
   opt(j, path, "motor", [&](const json& v, const std::string& p) {
     if (!hasAxisPosition(d.type)) fail(p, "only hinges, sliders and distance joints have motors");
