@@ -317,6 +317,9 @@ class World {
   // Kinematic bodies: set the velocities that carry the body to `target` over dt.
   void moveKinematic(BodyId id, const Vec3& position, const Quat& orientation, double dt);
   void setMaterial(BodyId id, const MaterialDef& m);
+  // A dynamic body's mass (kg, > 0), as Unity's Rigidbody.mass: the same shape of another
+  // density, so its centre of mass stays and its inertia scales with the mass. Wakes it.
+  void setMass(BodyId id, double mass);
   // As BodyDef's fields of the same names; each wakes the body (allowSleep = false keeps it
   // awake from now on).
   void setGravityScale(BodyId id, double scale);

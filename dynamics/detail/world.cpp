@@ -488,6 +488,20 @@ void World::setGravityScale(BodyId id, double scale) {
   impl_->wakeBody(id.index);
 }
 
+void World::setMass(BodyId id, double mass) {
+  Body& b = impl_->body(id, "setMass.id");
+  if (!b.isDynamic()) throw Error("setMass.id", "only dynamic bodies have a mass");
+  requirePositive(mass, "setMass.mass");
+  // The same shape of a new density: the centre of mass and the principal axes stay, the
+  // inertia scales with the mass.
+  const double scale = mass * b.invMass;
+  if (!std::isfinite(scale) || !(scale > 0.0)) throw Error("setMass.mass", "is out of range");
+  b.invMass = 1.0 / mass;
+  b.inertiaLocal *= scale, b.principalInertia *= scale;
+  b.invInertiaLocal = b.inertiaLocal.inverse();
+  impl_->wakeBody(id.index);
+}
+
 void World::setDamping(BodyId id, double linear, double angular) {
   Body& b = impl_->body(id, "setDamping.id");
   requireNonNegative(linear, "setDamping.linear");

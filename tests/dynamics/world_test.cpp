@@ -1134,3 +1134,49 @@ TEST(Kinematic, MovesToTargetAndPushesDynamicBodies) {
   EXPECT_NEAR(w.pose(pusher).p.x(), 0.5, 1e-9);
   EXPECT_GT(w.pose(box).p.x(), 0.65);  // pushed ahead of the pusher
 }
+
+// setMass (Unity's Rigidbody.mass): the same force accelerates the box at F / m for its new
+// mass, its inertia scales with it, its centre of mass stays; resting on the floor asleep,
+// made 5 times heavier it wakes and presses with its new weight. Static bodies, zero,
+// negative, infinite and NaN masses are refused, naming the field.
+TEST(Forces, SetMassGivesTheNewMassAndScalesTheInertia) {
+  WorldDef def;
+  def.gravity = Vec3::Zero();
+  World w(def);
+  const BodyId b = addBox(w, Vec3(1, 2, 3), Vec3(0.1, 0.2, 0.3), 2.0);
+  const Vec3 com = w.centerOfMass(b);
+  const Mat3 inertia = w.inertiaWorld(b);
+  w.setMass(b, 8.0);
+  EXPECT_DOUBLE_EQ(w.mass(b), 8.0);
+  EXPECT_TRUE(w.inertiaWorld(b).isApprox(4.0 * inertia, 1e-12));
+  EXPECT_EQ(w.centerOfMass(b), com);
+  const Vec3 F(3, -1, 2);
+  w.addForce(b, F);
+  w.step(0.01);
+  EXPECT_TRUE(w.linearVelocity(b).isApprox(F / 8.0 * 0.01, 1e-12));
+
+  World floor;
+  const BodyId ground = addGround(floor);
+  const BodyId box = addBox(floor, Vec3(0, 0.1, 0), Vec3::Constant(0.1), 2.0);
+  for (int i = 0; i < 240; ++i) floor.step(1.0 / 60.0);
+  ASSERT_FALSE(floor.isAwake(box));
+  floor.setMass(box, 10.0);
+  EXPECT_TRUE(floor.isAwake(box));
+  for (int i = 0; i < 60; ++i) floor.step(1.0 / 60.0);
+  EXPECT_NEAR(floor.contactForce(ground, box).y(), 10.0 * 9.81, 1e-3 * 10.0 * 9.81);
+  EXPECT_NEAR(floor.centerOfMass(box).y(), 0.1, 1e-3);
+
+  const uint64_t before = floor.stateHash();
+  const std::pair<BodyId, double> bad[] = {
+      {box, 0.0}, {box, -1.0}, {box, std::nan("")}, {box, INFINITY}, {ground, 1.0}};
+  for (const auto& [id, mass] : bad) {
+    try {
+      floor.setMass(id, mass);
+      ADD_FAILURE() << "accepted a mass of " << mass;
+    } catch (const Error& e) {
+      EXPECT_EQ(e.field(), id == ground ? "setMass.id" : "setMass.mass");
+    }
+  }
+  EXPECT_EQ(floor.stateHash(), before);
+  EXPECT_DOUBLE_EQ(floor.mass(box), 10.0);
+}
