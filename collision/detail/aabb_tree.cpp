@@ -61,11 +61,14 @@ void AabbTree::build(const std::vector<Aabb>& boxes, const std::vector<uint32_t>
                    extent.y() > 0.0 ? 1023.0 / extent.y() : 0.0,
                    extent.z() > 0.0 ? 1023.0 / extent.z() : 0.0);
   std::vector<uint32_t> codes(n), order(n), sorted(n);
+  // A cell index in [0, 1023] (a NaN, from a box at infinity, to 0).
+  auto cellOf = [](double x) {
+    return x > 0.0 ? (x < 1023.0 ? static_cast<uint32_t>(x) : 1023u) : 0u;
+  };
   for (uint32_t i = 0; i < n; ++i) {
-    const Vec3 cell = (boxes[i].center() - lo).cwiseProduct(scale).cwiseMax(0.0).cwiseMin(1023.0);
-    codes[i] = spreadBits(static_cast<uint32_t>(cell.x())) << 2 |
-               spreadBits(static_cast<uint32_t>(cell.y())) << 1 |
-               spreadBits(static_cast<uint32_t>(cell.z()));
+    const Vec3 cell = (boxes[i].center() - lo).cwiseProduct(scale);
+    codes[i] = spreadBits(cellOf(cell.x())) << 2 | spreadBits(cellOf(cell.y())) << 1 |
+               spreadBits(cellOf(cell.z()));
     order[i] = i;
   }
   uint32_t start[1025];

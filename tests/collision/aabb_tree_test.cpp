@@ -1,9 +1,10 @@
 // The query tree against the definition: every item whose box overlaps the query box, or that
 // the ray meets within its length, once, and nothing else; whatever the boxes' layout (a plane's
-// half-infinite box among them, boxes with one centre, a single box, none).
+// half-infinite box among them, an infinite one, boxes with one centre, a single box, none).
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <limits>
 #include <random>
 #include <vector>
 
@@ -73,6 +74,12 @@ TEST(AabbTree, CopesWithBoxesThatShareACentreAndWithTinyTrees) {
   for (int i = 0; i < 100; i += 3) same[i].max.x() += 0.01 * i;  // one centre line
   expectExact(same, rng, 100);
   expectExact({Aabb{Vec3::Zero(), Vec3::Ones()}}, rng, 50);
+  // A box without bounds (its centre NaN) among others, and one out at 1e300.
+  const double inf = std::numeric_limits<double>::infinity();
+  std::vector<Aabb> wild = same;
+  wild.push_back({Vec3::Constant(-inf), Vec3::Constant(inf)});
+  wild.push_back({Vec3::Constant(1e300), Vec3::Constant(1e300) + Vec3::Ones()});
+  expectExact(wild, rng, 100);
   AabbTree empty;
   empty.build({}, {});
   EXPECT_EQ(empty.size(), 0u);
