@@ -317,6 +317,12 @@ class World {
   // Kinematic bodies: set the velocities that carry the body to `target` over dt.
   void moveKinematic(BodyId id, const Vec3& position, const Quat& orientation, double dt);
   void setMaterial(BodyId id, const MaterialDef& m);
+  // Turns the body static, kinematic or dynamic (Unity's isKinematic, Box2D's b2Body_SetType,
+  // Jolt's SetMotionType): a dynamic one gets its mass from its shape (or BodyDef::mass, or
+  // setMass's); it keeps moving as it moved, except that a static one stops. Wakes it and what
+  // it touches. Not for a plane, nor for a body whose joint would be left without a dynamic
+  // body.
+  void setBodyType(BodyId id, BodyType type);
   // A dynamic body's mass (kg, > 0), as Unity's Rigidbody.mass: the same shape of another
   // density, so its centre of mass stays and its inertia scales with the mass. Wakes it.
   void setMass(BodyId id, double mass);

@@ -126,6 +126,31 @@ void World::Impl::wakeAround(uint32_t slot) {
     if (i != slot && bodies[i].alive && bodies[i].aabb.overlaps(box)) wakeBody(i);
 }
 
+namespace {
+// A dynamic body's mass, centre of mass and inertia from its shape and density, or its defined
+// mass (the density scaled to match; the inertia scales with it).
+void giveMass(Body& b, const char* field) {
+  MassProperties mp = b.shape->massProperties(b.material.density);
+  if (!(mp.mass > 0.0) || !mp.inertia.allFinite()) throw Error(field, "has no volume, so no mass");
+  if (b.definedMass > 0.0) {
+    mp.inertia *= b.definedMass / mp.mass;
+    mp.mass = b.definedMass;
+  }
+  b.invMass = 1.0 / mp.mass;
+  b.localCom = mp.com;
+  b.inertiaLocal = mp.inertia;
+  b.invInertiaLocal = mp.inertia.inverse();
+  if (!b.invInertiaLocal.allFinite()) throw Error(field, "has a singular inertia");
+  const Eigen::SelfAdjointEigenSolver<Mat3> principal(mp.inertia);
+  Mat3 axes = principal.eigenvectors();
+  if (axes.determinant() < 0.0) axes.col(2) = -axes.col(2);
+  b.principalFrame = Quat(axes).normalized();
+  b.principalInertia = principal.eigenvalues();
+  b.isotropic = b.principalInertia.maxCoeff() - b.principalInertia.minCoeff() <=
+                1e-9 * b.principalInertia.maxCoeff();
+}
+}  // namespace
+
 BodyId World::createBody(const BodyDef& d) {
   if (!d.shape) throw Error("BodyDef.shape", "is missing");
   requireFinite(d.position, "BodyDef.position");
@@ -158,32 +183,9 @@ BodyId World::createBody(const BodyDef& d) {
   b.awake = d.type != BodyType::Static && d.isAwake;
   b.userData = d.userData;
   b.name = d.name;
-  if (d.type == BodyType::Dynamic) {
-    MassProperties mp = d.shape->massProperties(d.material.density);
-    if (!(mp.mass > 0.0) || !mp.inertia.allFinite())
-      throw Error("BodyDef.shape", "has no volume, so no mass");
-    if (d.mass > 0.0) {  // scale density so the mass matches; inertia scales with it
-      mp.inertia *= d.mass / mp.mass;
-      mp.mass = d.mass;
-    }
-    b.invMass = 1.0 / mp.mass;
-    b.localCom = mp.com;
-    b.inertiaLocal = mp.inertia;
-    b.invInertiaLocal = mp.inertia.inverse();
-    if (!b.invInertiaLocal.allFinite()) throw Error("BodyDef.shape", "has a singular inertia");
-    const Eigen::SelfAdjointEigenSolver<Mat3> principal(mp.inertia);
-    Mat3 axes = principal.eigenvectors();
-    if (axes.determinant() < 0.0) axes.col(2) = -axes.col(2);
-    b.principalFrame = Quat(axes).normalized();
-    b.principalInertia = principal.eigenvalues();
-    b.isotropic = b.principalInertia.maxCoeff() - b.principalInertia.minCoeff() <=
-                  1e-9 * b.principalInertia.maxCoeff();
-    b.v = d.linearVelocity;
-    b.w = d.angularVelocity;
-  } else if (d.type == BodyType::Kinematic) {
-    b.v = d.linearVelocity;
-    b.w = d.angularVelocity;
-  }
+  b.definedMass = d.mass;
+  if (d.type == BodyType::Dynamic) giveMass(b, "BodyDef.shape");
+  if (d.type != BodyType::Static) b.v = d.linearVelocity, b.w = d.angularVelocity;
   b.com = b.pose.apply(b.localCom);
   b.restartCalm();
 
@@ -230,6 +232,55 @@ void World::destroyBody(BodyId id) {
   b.generation = generation;
   impl_->freeSlots.push_back(id.index);
   --impl_->aliveCount;
+}
+
+void World::setBodyType(BodyId id, BodyType type) {
+  const Body& found = impl_->body(id, "setBodyType.id");
+  if (type != BodyType::Static && type != BodyType::Kinematic && type != BodyType::Dynamic)
+    throw Error("setBodyType.type", "is not a body type");
+  if (type == found.type) return;
+  if (found.shape->type() == ShapeType::Plane)
+    throw Error("setBodyType.type", "a plane can only belong to a static body");
+  if (type != BodyType::Dynamic)
+    for (const detail::Joint& j : impl_->joints) {
+      const uint32_t other = j.a == id.index ? j.b : j.a;
+      if (j.alive && (j.a == id.index || j.b == id.index) && !impl_->bodies[other].isDynamic())
+        throw Error("setBodyType.type", "would leave one of its joints without a dynamic body");
+    }
+  // The new body whole, then swapped in: a shape without volume refuses to be dynamic and
+  // leaves the body as it was. It moves on as it moved (the velocities are of the centre of
+  // mass, which a dynamic body has at its own and the others at their origin), a static one
+  // stops.
+  Body b = found;
+  const Vec3 v = b.v + b.w.cross(b.pose.p - b.com);  // of the origin
+  b.type = type;
+  b.invMass = 0.0, b.localCom = Vec3::Zero();
+  b.inertiaLocal = b.invInertiaLocal = Mat3::Zero();
+  b.principalFrame = Quat::Identity(), b.principalInertia = Vec3::Zero(), b.isotropic = true;
+  if (type == BodyType::Dynamic) giveMass(b, "setBodyType.type");
+  b.com = b.pose.apply(b.localCom);
+  b.v = type == BodyType::Static ? Vec3::Zero() : Vec3(v + b.w.cross(b.com - b.pose.p));
+  if (type == BodyType::Static) b.w = Vec3::Zero();
+  if (type != BodyType::Dynamic) b.force = b.torque = b.linearAccel = b.angularAccel = Vec3::Zero();
+  b.awake = type != BodyType::Static, b.sleepGroup = 0;
+  b.restartCalm();
+  impl_->bodies[id.index] = std::move(b);
+  // Contacts between two bodies neither dynamic nor a sensor are never made: this body's with
+  // such partners go (still bodies would keep them). The partners wake to feel the change.
+  const auto noPair = [&](const detail::ContactManifold& c) {
+    if (c.bodyA != id.index && c.bodyB != id.index) return false;
+    const Body &A = impl_->bodies[c.bodyA], &B = impl_->bodies[c.bodyB];
+    return !A.isDynamic() && !B.isDynamic() && !A.sensor && !B.sensor;
+  };
+  impl_->contacts.forEach([&](const detail::ContactManifold& c) {
+    if (c.bodyA == id.index) impl_->wakeBody(c.bodyB);
+    if (c.bodyB == id.index) impl_->wakeBody(c.bodyA);
+  });
+  for (auto& run : impl_->contacts.run) {
+    std::erase_if(run, noPair);
+    run.indexKeys();
+  }
+  impl_->wakeBody(id.index);
 }
 
 bool World::isValid(BodyId id) const {
@@ -496,7 +547,7 @@ void World::setMass(BodyId id, double mass) {
   // inertia scales with the mass.
   const double scale = mass * b.invMass;
   if (!std::isfinite(scale) || !(scale > 0.0)) throw Error("setMass.mass", "is out of range");
-  b.invMass = 1.0 / mass;
+  b.invMass = 1.0 / mass, b.definedMass = mass;
   b.inertiaLocal *= scale, b.principalInertia *= scale;
   b.invInertiaLocal = b.inertiaLocal.inverse();
   impl_->wakeBody(id.index);

@@ -37,6 +37,7 @@ struct Body {
   Vec3 com = Vec3::Zero();       // world centre of mass
   Vec3 v = Vec3::Zero(), w = Vec3::Zero();
   double invMass = 0.0;
+  double definedMass = 0.0;          // BodyDef::mass or setMass's (0: from the density)
   Mat3 inertiaLocal = Mat3::Zero();  // about the com, body frame
   Mat3 invInertiaLocal = Mat3::Zero();
   // The principal axes (body frame = principalFrame * principal frame) and moments, for the

@@ -1180,3 +1180,94 @@ TEST(Forces, SetMassGivesTheNewMassAndScalesTheInertia) {
   EXPECT_EQ(floor.stateHash(), before);
   EXPECT_DOUBLE_EQ(floor.mass(box), 10.0);
 }
+
+// setBodyType (Unity's isKinematic, Box2D's b2Body_SetType): a kinematic platform moving at
+// 0.5 m/s turned dynamic falls freely from there (g t^2 / 2, its 0.5 m/s kept) with the mass it
+// was defined with; a falling box turned static stops where it is and a box dropped on it comes
+// to rest on it, and one resting on the ground keeps no contact with it; a dynamic box turned
+// kinematic flies on at its velocity, gravity and forces ignored, and back to dynamic it falls
+// again. Planes, joints left without a dynamic body and stale ids are refused, naming the
+// field, the world unchanged.
+TEST(BodyType, ChangesAtRunTimeKeepTheMotionAndTheMass) {
+  World w;
+  const BodyId ground = addGround(w);
+  BodyDef pd;
+  pd.type = BodyType::Kinematic;
+  pd.shape = Shape::box(Vec3(0.2, 0.02, 0.2));
+  pd.position = Vec3(0, 2, 0);
+  pd.linearVelocity = Vec3(0.5, 0, 0);
+  pd.mass = 3.0;
+  const BodyId platform = w.createBody(pd);
+  for (int i = 0; i < 30; ++i) w.step(1.0 / 60.0);
+  EXPECT_NEAR(w.pose(platform).p.x(), 0.25, 1e-9);
+  w.setBodyType(platform, BodyType::Dynamic);
+  EXPECT_EQ(w.bodyType(platform), BodyType::Dynamic);
+  EXPECT_DOUBLE_EQ(w.mass(platform), 3.0);
+  for (int i = 0; i < 30; ++i) w.step(1.0 / 60.0);
+  const double t = 0.5, h = 1.0 / 240.0, n = 120.0;  // substeps integrate gravity first
+  EXPECT_NEAR(w.centerOfMass(platform).y(), 2.0 - 0.5 * 9.81 * h * h * n * (n + 1.0), 1e-9);
+  EXPECT_NEAR(w.centerOfMass(platform).x(), 0.25 + 0.5 * t, 1e-9);
+
+  const BodyId shelf = addBox(w, Vec3(2, 1, 0), Vec3(0.3, 0.05, 0.3), 1.0);
+  for (int i = 0; i < 10; ++i) w.step(1.0 / 60.0);
+  w.setBodyType(shelf, BodyType::Static);
+  const Vec3 held = w.pose(shelf).p;
+  EXPECT_EQ(w.linearVelocity(shelf), Vec3::Zero());
+  EXPECT_EQ(w.mass(shelf), 0.0);
+  const BodyId box = addBox(w, held + Vec3(0, 0.5, 0), Vec3::Constant(0.05), 1.0);
+  for (int i = 0; i < 120; ++i) w.step(1.0 / 60.0);
+  EXPECT_EQ(w.pose(shelf).p, held);
+  EXPECT_NEAR(w.centerOfMass(box).y(), held.y() + 0.05 + 0.05, 2e-3);  // resting on it
+  EXPECT_LT(w.linearVelocity(box).norm(), 0.01);
+  // Turned static on the ground, a box keeps no contact with it (two static bodies make none).
+  const BodyId block = addBox(w, Vec3(-4, 0.05, 0), Vec3::Constant(0.05), 1.0);
+  for (int i = 0; i < 30; ++i) w.step(1.0 / 60.0);
+  ASSERT_FALSE(w.contactManifolds(ground, block).empty());
+  w.setBodyType(block, BodyType::Static);
+  for (int i = 0; i < 5; ++i) w.step(1.0 / 60.0);
+  EXPECT_TRUE(w.contactManifolds(ground, block).empty());
+
+  const BodyId flier = addBox(w, Vec3(-2, 3, 0), Vec3::Constant(0.05), 1.0);
+  w.setLinearVelocity(flier, Vec3(1, 0, 0));
+  w.setBodyType(flier, BodyType::Kinematic);
+  EXPECT_EQ(w.mass(flier), 0.0);
+  for (int i = 0; i < 60; ++i) {
+    w.addForce(flier, Vec3(0, 100, 0));
+    w.step(1.0 / 60.0);
+  }
+  EXPECT_NEAR(w.centerOfMass(flier).x(), -1.0, 1e-9);
+  EXPECT_NEAR(w.centerOfMass(flier).y(), 3.0, 1e-9);
+  w.setBodyType(flier, BodyType::Dynamic);
+  EXPECT_DOUBLE_EQ(w.mass(flier), 1.0);  // its BodyDef::mass
+  w.step(1.0 / 60.0);
+  EXPECT_LT(w.linearVelocity(flier).y(), -0.1);  // falling again
+
+  BodyDef hd;
+  hd.type = BodyType::Static;
+  hd.shape = Shape::box(Vec3::Constant(0.05));
+  hd.position = Vec3(5, 3, 0);
+  const BodyId hook = w.createBody(hd);
+  const BodyId bob = addBox(w, Vec3(5, 2, 0), Vec3::Constant(0.05), 1.0);
+  JointDef jd;
+  jd.type = JointType::Ball, jd.a = hook, jd.b = bob, jd.anchor = Vec3(5, 3, 0);
+  w.createJoint(jd);
+  w.step(1.0 / 60.0);
+  const uint64_t before = w.stateHash();
+  const std::pair<std::pair<BodyId, BodyType>, const char*> bad[] = {
+      {{ground, BodyType::Dynamic}, "setBodyType.type"},
+      {{bob, BodyType::Kinematic}, "setBodyType.type"},
+      {{BodyId{box.index, box.generation + 1}, BodyType::Static}, "setBodyType.id"},
+      {{box, static_cast<BodyType>(7)}, "setBodyType.type"}};
+  for (const auto& [call, field] : bad) {
+    try {
+      w.setBodyType(call.first, call.second);
+      ADD_FAILURE() << "accepted a bad " << field;
+    } catch (const Error& e) {
+      EXPECT_EQ(e.field(), field);
+    }
+  }
+  EXPECT_EQ(w.stateHash(), before);
+  EXPECT_EQ(w.bodyType(bob), BodyType::Dynamic);
+  w.setBodyType(hook, BodyType::Kinematic);  // the bob is still dynamic: allowed
+  EXPECT_EQ(w.bodyType(hook), BodyType::Kinematic);
+}
