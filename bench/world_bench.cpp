@@ -58,6 +58,35 @@ void BM_World_SleepingPileOneMoving(benchmark::State& state) {
 }
 BENCHMARK(BM_World_SleepingPileOneMoving)->Arg(1000)->Unit(benchmark::kMicrosecond);
 
+// N cubes asleep on the floor in a grid, each with its floor contact, while one ball rolls
+// among them: a room of sleeping objects should cost a step what its moving ones do.
+void BM_World_SleepingGridOneMoving(benchmark::State& state) {
+  World w;
+  scenes::addGround(w);
+  const int n = static_cast<int>(state.range(0));
+  int side = 1;
+  while (side * side < n) ++side;
+  BodyDef cube;
+  cube.shape = Shape::box(Vec3::Constant(0.05));
+  for (int i = 0; i < n; ++i) {
+    cube.position = Vec3(0.3 * (i % side), 0.05, 0.3 * (i / side));
+    w.createBody(cube);
+  }
+  for (int i = 0; i < 60; ++i) w.step(1.0 / 60.0);
+  BodyDef ball;
+  ball.shape = Shape::sphere(0.1);
+  ball.position = Vec3(-1.0, 0.1, 0.0);
+  ball.linearVelocity = Vec3(0.0, 0.0, 1.0);
+  w.createBody(ball);
+  for (auto _ : state) w.step(1.0 / 60.0);
+  state.counters["awake"] = w.stats().awakeBodies;
+}
+BENCHMARK(BM_World_SleepingGridOneMoving)
+    ->Arg(1000)
+    ->Arg(10000)
+    ->Arg(50000)
+    ->Unit(benchmark::kMicrosecond);
+
 void BM_World_Stack(benchmark::State& state) {
   WorldDef def;
   def.enableSleep = false;

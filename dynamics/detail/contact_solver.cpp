@@ -988,11 +988,12 @@ void World::Impl::warmStart(SolverBody& b, int substep) {
 // resting on the ground in both regions would otherwise write (zeros) to one world body from
 // both threads.
 void World::Impl::setUpSolverBodies() {
+  for (uint32_t slot : awakeBodies) solverIndexOf[slot] = 0;  // last step's, one by one
+  solverIndexOf.resize(bodies.size(), 0);
   awakeBodies.assign(regionSlots.begin(), regionSlots.end());
   const int n = static_cast<int>(awakeBodies.size());
   regionBodyEnd = static_cast<int>(regionSlotEnd);
   stats.solveRegions = regionCount;
-  solverIndexOf.assign(bodies.size(), 0);
   solverRegion.assign(static_cast<size_t>(n + 1), kNoRegion);
   for (int k = 0; k < n; ++k) {
     solverIndexOf[awakeBodies[k]] = k + 1;

@@ -64,10 +64,14 @@ bool isPolytope(const Shape& s) {
   return s.type() == ShapeType::Box || s.type() == ShapeType::ConvexHull;
 }
 
+// How fast the bodies close along `normal` at x.
+double closingSpeedAt(const Body& A, const Body& B, const Vec3& normal, const Vec3& x) {
+  return -((B.v + B.w.cross(x - B.com)) - (A.v + A.w.cross(x - A.com))).dot(normal);
+}
+
 // How fast the bodies close along the normal at the manifold's first point.
 double closingSpeed(const Body& A, const Body& B, const Manifold& m) {
-  const Vec3& x = m.points[0].position;
-  return -((B.v + B.w.cross(x - B.com)) - (A.v + A.w.cross(x - A.com))).dot(m.normal);
+  return closingSpeedAt(A, B, m.normal, m.points[0].position);
 }
 
 // Whether B's pose relative to A (`relative`) is within `distance` and the angle whose half
@@ -137,32 +141,60 @@ void mergeRuns(std::vector<T>& v, const size_t (&ends)[3], const Less& less) {
 }  // namespace
 
 bool World::Impl::collide(double dt) {
-  // Proxies: every live body; awake non-static ones are active.
+  // Proxies: the moving bodies (awake and not static: active) and the still ones they may
+  // meet, in slot order. Among many still bodies, only those whose boxes a moving one's meets
+  // (the queries' tree finds them) are proxies: a step of a world of sleeping bodies costs
+  // what its moving ones do. Otherwise every live body is: pairs the same either way.
   const uint32_t n = static_cast<uint32_t>(bodies.size());
+  detail::setSlots(movingSlot, movers);
   proxyBoxes.clear(), proxyActive.clear(), proxyBody.clear();
   motion.resize(n);
-  for (uint32_t i = 0; i < n; ++i) {
+  auto moverBox = [&](uint32_t i) {
     const Body& b = bodies[i];
-    if (!b.alive) continue;
-    const bool active = b.awake && b.type != BodyType::Static;
     detail::BodyMotion& m = motion[i];
-    m.turnTravel = active ? turnTravel(b, dt) : 0.0;
-    m.acceleration = active ? accelerationOf(b, def.gravity, dt) : Vec3::Zero();
-    if (active) {
-      // b.aabb is current: every pose change (createBody, setPose, the solver's write-back)
-      // refreshes it. Grow it by the speculative distance and by the motion of this step.
-      Aabb box = b.aabb.inflated(def.speculativeDistance + m.turnTravel);
-      // Its travel lies between the speed it has and the speed it gains (v dt + a dt^2 bounds a
-      // substepped Euler step's).
-      const Vec3 now = b.v * dt, gained = (b.v + m.acceleration * dt) * dt;
-      box.min += now.cwiseMin(gained).cwiseMin(Vec3::Zero());
-      box.max += now.cwiseMax(gained).cwiseMax(Vec3::Zero());
-      proxyBoxes.push_back(box);
-    } else {
-      proxyBoxes.push_back(b.aabb);
+    m.turnTravel = turnTravel(b, dt);
+    m.acceleration = accelerationOf(b, def.gravity, dt);
+    // b.aabb is current: every pose change (createBody, setPose, the solver's write-back)
+    // refreshes it. Grow it by the speculative distance and by the motion of this step.
+    Aabb box = b.aabb.inflated(def.speculativeDistance + m.turnTravel);
+    // Its travel lies between the speed it has and the speed it gains (v dt + a dt^2 bounds a
+    // substepped Euler step's).
+    const Vec3 now = b.v * dt, gained = (b.v + m.acceleration * dt) * dt;
+    box.min += now.cwiseMin(gained).cwiseMin(Vec3::Zero());
+    box.max += now.cwiseMax(gained).cwiseMax(Vec3::Zero());
+    return box;
+  };
+  auto addProxy = [&](uint32_t i, bool active, const Aabb& box) {
+    if (!active) motion[i] = detail::BodyMotion{};
+    proxyBoxes.push_back(box), proxyActive.push_back(active), proxyBody.push_back(i);
+  };
+  constexpr size_t kStillPerMover = 32;
+  if (movers.size() * kStillPerMover < static_cast<size_t>(aliveCount)) {
+    static thread_local std::vector<Aabb> moverBoxes;
+    static thread_local std::vector<uint32_t> found;
+    moverBoxes.clear(), nearMovers.clear();
+    for (uint32_t i : movers) {
+      moverBoxes.push_back(moverBox(i));
+      queryCandidates(moverBoxes.back(), found);
+      for (uint32_t j : found)
+        if (!movingSlot[j]) nearMovers.push_back(j);
     }
-    proxyActive.push_back(active);
-    proxyBody.push_back(i);
+    std::sort(nearMovers.begin(), nearMovers.end());
+    nearMovers.erase(std::unique(nearMovers.begin(), nearMovers.end()), nearMovers.end());
+    size_t k = 0;  // the two ascending lists merged
+    for (uint32_t j : nearMovers) {
+      for (; k < movers.size() && movers[k] < j; ++k) addProxy(movers[k], true, moverBoxes[k]);
+      addProxy(j, false, bodies[j].aabb);
+    }
+    for (; k < movers.size(); ++k) addProxy(movers[k], true, moverBoxes[k]);
+  } else {
+    for (uint32_t i = 0; i < n; ++i) {
+      if (!bodies[i].alive) continue;
+      if (movingSlot[i])
+        addProxy(i, true, moverBox(i));
+      else
+        addProxy(i, false, bodies[i].aabb);
+    }
   }
   assignRegions();
   // A world at rest: nothing moves now, and last step's contacts were all kept ones (nothing
@@ -235,15 +267,19 @@ bool World::Impl::collide(double dt) {
 void World::Impl::keepContacts() {
   constexpr int kKept = detail::ContactRuns::kKept;
   auto stays = [&](uint64_t key) {
-    return stillBody[detail::firstOfPair(key)] && stillBody[detail::secondOfPair(key)];
+    return !movingSlot[detail::firstOfPair(key)] && !movingSlot[detail::secondOfPair(key)];
   };
   auto allStay = [&](const detail::ContactRuns::Run& run, bool stay) {
     return std::all_of(run.pairKeys.begin(), run.pairKeys.end(),
                        [&](uint64_t key) { return stays(key) == stay; });
   };
   detail::ContactRuns::Run& kept = contacts.run[kKept];
-  keptTakenOver = allStay(previous.run[kKept], true) && allStay(previous.run[0], false) &&
-                  allStay(previous.run[1], false);
+  // The same movers as the contacts were made with: each pair is still or not as it was, so
+  // the test below holds without walking the kept run (a contact per sleeping body).
+  keptTakenOver = movers == contactMovers ||
+                  (allStay(previous.run[kKept], true) && allStay(previous.run[0], false) &&
+                   allStay(previous.run[1], false));
+  contactMovers = movers;
   if (keptTakenOver) {
     std::swap(kept, previous.run[kKept]);
     return;
@@ -265,16 +301,12 @@ void World::Impl::keepContacts() {
 // on their own thread (collide, solve), and the manifolds across the cut after both. The order
 // is the same with one thread as with two, so the result is too. Fewer bodies stay one region
 // (the order of the step as it was before regions).
-// The moving bodies are the active proxies (collide builds them just before, one per live body
-// in slot order), so the bodies are not walked a second time.
+// The moving bodies are collide's movers (in slot order): the bodies are not walked.
 void World::Impl::assignRegions() {
-  regionSlots.clear();
-  bodyRegion.assign(bodies.size(), detail::kNoRegion), stillBody.assign(bodies.size(), 0);
-  for (size_t k = 0; k < proxyBody.size(); ++k) {
-    const uint32_t i = proxyBody[k];
-    stillBody[i] = !proxyActive[k];
-    if (proxyActive[k]) bodyRegion[i] = 0, regionSlots.push_back(i);
-  }
+  for (uint32_t slot : regionSlots) bodyRegion[slot] = detail::kNoRegion;  // last round's
+  bodyRegion.resize(bodies.size(), detail::kNoRegion);
+  regionSlots.assign(movers.begin(), movers.end());
+  for (uint32_t slot : regionSlots) bodyRegion[slot] = 0;
   const size_t n = regionSlots.size();
   regionCount = n < detail::kRegionBodies ? 1 : 2;
   regionSlotEnd = n;
@@ -354,13 +386,34 @@ void World::Impl::narrowphase(int region, double dt) {
                             (motion[ib].acceleration - motion[ia].acceleration).norm() * dt * dt +
                             motion[ia].turnTravel + motion[ib].turnTravel;
     const double margin = def.speculativeDistance + std::min(approach, 1.0);
-    // Not when the margin has grown by half the speculative distance or more: a point it left
-    // out could then close this step (it was farther than the old margin, less the pair's
-    // motion since, a few mm at the thresholds).
+    // A sleeping body wakes (collide) when a point touches or closes this step at the speed
+    // it closes with: treated as still, the sleeper would stop a ball rolling into it dead, its
+    // speculative contact a wall, and wake a step later without the blow.
+    const size_t first = made.size();
+    auto wakeIfReached = [&] {
+      if (A.awake == B.awake) return;
+      const uint32_t sleeper = A.awake ? ib : ia;
+      if (!bodies[sleeper].isDynamic()) return;
+      for (size_t i = first; i < made.size(); ++i) {
+        const Manifold& m = made[i].m;
+        const double gained = (motion[ia].acceleration - motion[ib].acceleration).dot(m.normal);
+        for (int k = 0; k < m.pointCount; ++k) {
+          const double closing = closingSpeedAt(A, B, m.normal, m.points[k].position);
+          if (m.points[k].separation < kTouching + std::max(closing + gained * dt, 0.0) * dt) {
+            out.sleepersTouched.push_back(sleeper);
+            return;
+          }
+        }
+      }
+    };
+    // Carried along, but not when the margin has grown by half the speculative distance or
+    // more: a point it left out could then close this step (it was farther than the old
+    // margin, less the pair's motion since, a few mm at the thresholds).
     const ContactManifold* last = findPrevious(cursor, ia, ib, 0, 0);  // cursor at the pair
     if (carriable && last && margin < last->margin + 0.5 * def.speculativeDistance &&
         closeTo(relative, last->computedAt, def.contactReuseDistance, reuseHalfCos)) {
       carryAlong(*last, A, B, made.emplace_back(*last));
+      wakeIfReached();
       continue;
     }
     out.scratch.clear();
@@ -388,16 +441,11 @@ void World::Impl::narrowphase(int region, double dt) {
           std::max(closingSpeed(A, B, m), old && !old->touching ? old->approachSpeed : 0.0);
       if (carriable) remember(relative, margin, A, B, c);
     }
+    wakeIfReached();
   }
   made.indexKeys();
   out.reused = 0;
-  for (const ContactManifold& c : made) {
-    out.reused += c.reused;
-    const Body &A = bodies[c.bodyA], &B = bodies[c.bodyB];
-    if (!c.touching || A.awake == B.awake) continue;
-    const uint32_t sleeper = A.awake ? c.bodyB : c.bodyA;
-    if (bodies[sleeper].isDynamic()) out.sleepersTouched.push_back(sleeper);
-  }
+  for (const ContactManifold& c : made) out.reused += c.reused;
 }
 
 // Last step's manifold of a pair of bodies and children, or null. Each cursor moves forward
@@ -519,15 +567,17 @@ bool World::Impl::calm(const Body& b, double dt) const {
 void World::Impl::updateSleep(double dt) {
   stats.islands = stats.sleepingIslands = 0;
   if (awakeBodies.empty()) return;  // (a world at rest)
-  // Islands: awake dynamic bodies joined by touching contacts (static bodies do not join).
-  static thread_local std::vector<uint32_t> parent;
+  // Islands: awake dynamic bodies joined by touching contacts (static bodies do not join), by
+  // solver index (a world of sleeping bodies is not walked); each island's root is its body
+  // of the lowest slot.
+  static thread_local std::vector<uint32_t> parent, roots, islandGroup;
   static thread_local std::vector<double> islandSleepTime;
-  const uint32_t n = static_cast<uint32_t>(bodies.size());
-  parent.resize(n);
+  const uint32_t n = static_cast<uint32_t>(awakeBodies.size());
+  parent.resize(n + 1);
   std::iota(parent.begin(), parent.end(), 0u);
   // Each body's calm time, on the thread of its region (the body's cache lines are that
   // thread's); the islands read the packed copies.
-  calmTimes.resize(awakeBodies.size()), calmDynamic.resize(awakeBodies.size());
+  calmTimes.resize(n), calmDynamic.resize(n);
   inBothRegions([&](int region) {
     for (int k : bodiesOf(region)) {
       Body& b = bodies[awakeBodies[k]];
@@ -538,50 +588,62 @@ void World::Impl::updateSleep(double dt) {
       calmTimes[k] = b.sleepTime, calmDynamic[k] = b.isDynamic();
     }
   });
-  // Awake (moving) and dynamic: a solver body whose packed flag says so.
+  // The solver index of a body awake (moving) and dynamic, else 0.
   auto awakeDynamic = [&](uint32_t slot) {
     const int s = solverIndexOf[slot];
-    return s != 0 && calmDynamic[static_cast<size_t>(s - 1)];
+    return s != 0 && calmDynamic[static_cast<size_t>(s - 1)] ? static_cast<uint32_t>(s) : 0u;
+  };
+  auto join = [&](uint32_t a, uint32_t b) {
+    if (a == 0 || b == 0) return;
+    const uint32_t ra = findRoot(parent, a), rb = findRoot(parent, b);
+    if (ra == rb) return;
+    if (awakeBodies[ra - 1] < awakeBodies[rb - 1])
+      parent[rb] = ra;
+    else
+      parent[ra] = rb;
   };
   for (int r = 0; r < 2; ++r) {  // (the kept run joins only bodies that do not move)
     const detail::ContactRuns::Run& run = contacts.run[r];
-    for (size_t i = 0; i < run.size(); ++i) {
-      if (!run.touching[i]) continue;
-      const uint32_t a = detail::firstOfPair(run.pairKeys[i]);
-      const uint32_t b = detail::secondOfPair(run.pairKeys[i]);
-      if (!awakeDynamic(a) || !awakeDynamic(b)) continue;
-      const uint32_t ra = findRoot(parent, a), rb = findRoot(parent, b);
-      if (ra != rb) parent[std::max(ra, rb)] = std::min(ra, rb);
+    for (size_t i = 0; i < run.size(); ++i)
+      if (run.touching[i])
+        join(awakeDynamic(detail::firstOfPair(run.pairKeys[i])),
+             awakeDynamic(detail::secondOfPair(run.pairKeys[i])));
+  }
+  for (const detail::Joint& j : joints)  // joined bodies sleep and wake together
+    if (j.alive) join(awakeDynamic(j.a), awakeDynamic(j.b));
+  islandSleepTime.assign(n + 1, 1e300);
+  for (uint32_t k = 1; k <= n; ++k) {
+    const uint32_t r = findRoot(parent, k);
+    islandSleepTime[r] = std::min(islandSleepTime[r], calmTimes[k - 1]);
+  }
+  // The islands in the slot order of their roots (awakeBodies is not in slot order), each
+  // falling asleep numbered in turn.
+  roots.clear();
+  for (uint32_t k = 1; k <= n; ++k)
+    if (parent[k] == k) roots.push_back(k);
+  std::sort(roots.begin(), roots.end(),
+            [&](uint32_t x, uint32_t y) { return awakeBodies[x - 1] < awakeBodies[y - 1]; });
+  islandGroup.assign(n + 1, 0);
+  int sleeping = 0;
+  for (uint32_t r : roots) {
+    if (!def.enableSleep || islandSleepTime[r] < def.timeToSleep) continue;
+    ++sleeping;
+    islandGroup[r] = nextSleepGroup++;
+    if (nextSleepGroup == 0) nextSleepGroup = 1;
+  }
+  if (sleeping > 0) {
+    for (uint32_t k = 1; k <= n; ++k) {
+      const uint32_t group = islandGroup[findRoot(parent, k)];
+      if (group == 0) continue;
+      const uint32_t slot = awakeBodies[k - 1];
+      Body& b = bodies[slot];
+      b.awake = false;
+      b.v.setZero(), b.w.setZero();
+      b.sleepGroup = group;
+      markMoving(slot);
     }
   }
-  for (const detail::Joint& j : joints) {  // joined bodies sleep and wake together
-    if (!j.alive || !awakeDynamic(j.a) || !awakeDynamic(j.b)) continue;
-    const uint32_t ra = findRoot(parent, j.a), rb = findRoot(parent, j.b);
-    if (ra != rb) parent[std::max(ra, rb)] = std::min(ra, rb);
-  }
-  islandSleepTime.assign(n, 1e300);
-  for (size_t k = 0; k < awakeBodies.size(); ++k) {
-    const uint32_t r = findRoot(parent, awakeBodies[k]);
-    islandSleepTime[r] = std::min(islandSleepTime[r], calmTimes[k]);
-  }
-  int islands = 0, sleeping = 0;
-  for (uint32_t r = 0; r < n; ++r) {  // the islands' roots, in slot order (awakeBodies is not)
-    if (solverIndexOf[r] == 0 || findRoot(parent, r) != r) continue;
-    ++islands;
-    if (def.enableSleep && islandSleepTime[r] >= def.timeToSleep) {
-      ++sleeping;
-      const uint32_t group = nextSleepGroup++;
-      if (nextSleepGroup == 0) nextSleepGroup = 1;
-      for (uint32_t j : awakeBodies) {
-        if (findRoot(parent, j) != r) continue;
-        Body& b = bodies[j];
-        b.awake = false;
-        b.v.setZero(), b.w.setZero();
-        b.sleepGroup = group;
-      }
-    }
-  }
-  stats.islands = islands;
+  stats.islands = static_cast<int>(roots.size());
   stats.sleepingIslands = sleeping;
 }
 

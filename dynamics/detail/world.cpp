@@ -112,6 +112,7 @@ void World::Impl::wakeBody(uint32_t slot) {
       o.awake = true;
       o.restartCalm();
       o.sleepGroup = 0;
+      markMoving(static_cast<uint32_t>(&o - bodies.data()));
     }
   }
 }
@@ -202,7 +203,9 @@ BodyId World::createBody(const BodyDef& d) {
     impl_->bodies.push_back(std::move(b));
     impl_->queries.moved.push_back(1);
     impl_->queries.boxes.emplace_back();
+    impl_->movingSlot.push_back(0);
   }
+  impl_->markMoving(slot);
   impl_->refreshBounds(slot);
   impl_->queries.dirty = true;
   ++impl_->aliveCount;
@@ -230,6 +233,7 @@ void World::destroyBody(BodyId id) {
   const uint32_t generation = b.generation;  // kept so the slot's next body gets a new one
   b = Body{};
   b.generation = generation;
+  impl_->markMoving(id.index);
   impl_->freeSlots.push_back(id.index);
   --impl_->aliveCount;
 }
@@ -265,6 +269,7 @@ void World::setBodyType(BodyId id, BodyType type) {
   b.awake = type != BodyType::Static, b.sleepGroup = 0;
   b.restartCalm();
   impl_->bodies[id.index] = std::move(b);
+  impl_->markMoving(id.index);
   // Contacts between two bodies neither dynamic nor a sensor are never made: this body's with
   // such partners go (still bodies would keep them). The partners wake to feel the change.
   const auto noPair = [&](const detail::ContactManifold& c) {
@@ -602,9 +607,7 @@ void World::Impl::candidates(const Tree& treeHits, const Loose& looseHit,
   const std::lock_guard<std::mutex> hold(queries.lock);
   QueryIndex& q = queries;
   if (q.dirty) {
-    q.movedList.clear();
-    for (uint32_t i = 0; i < q.moved.size(); ++i)
-      if (q.moved[i]) q.movedList.push_back(i);
+    detail::setSlots(q.moved, q.movedList);
     q.dirty = false;
   }
   q.looseTests += q.movedList.size();

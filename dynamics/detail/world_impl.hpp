@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <array>
 #include <cstdint>
+#include <cstring>
 #include <functional>
 #include <memory>
 #include <mutex>
@@ -108,6 +109,23 @@ struct PointState {
 constexpr uint8_t kAcross = 2;         // a manifold between the two regions
 constexpr uint8_t kNoRegion = 3;       // a body that does not move (static, asleep), the world
 constexpr size_t kRegionBodies = 256;  // fewer awake bodies stay one region
+
+// The indices of the set bytes of `flags`, ascending: eight bytes at a time, as in a world of
+// sleeping bodies most are clear.
+inline void setSlots(const std::vector<uint8_t>& flags, std::vector<uint32_t>& out) {
+  out.clear();
+  const size_t n = flags.size();
+  size_t i = 0;
+  for (; i + 8 <= n; i += 8) {
+    uint64_t word;
+    std::memcpy(&word, flags.data() + i, sizeof word);
+    if (word == 0) continue;
+    for (size_t k = i; k < i + 8; ++k)
+      if (flags[k]) out.push_back(static_cast<uint32_t>(k));
+  }
+  for (; i < n; ++i)
+    if (flags[i]) out.push_back(static_cast<uint32_t>(i));
+}
 
 // The indices [first, last), for a range-for. (Not std::views::iota: clang 14 cannot compile
 // libstdc++ 12's.)
@@ -426,7 +444,12 @@ struct World::Impl {
   std::vector<uint32_t> proxyBody;
   std::vector<detail::BodyMotion> motion;  // per body slot (collide)
   std::vector<uint8_t> bodyRegion;  // per body slot: its region, kNoRegion if it does not move
-  std::vector<uint8_t> stillBody;   // per body slot: alive and not moving (assignRegions)
+  // Per body slot: alive, awake and not static (markMoving, after every change of those), so
+  // that a step finds the few moving bodies among many sleeping ones without reading them.
+  std::vector<uint8_t> movingSlot;
+  std::vector<uint32_t> movers;         // the moving slots, ascending (collide)
+  std::vector<uint32_t> contactMovers;  // the movers the contact runs were made with (keepContacts)
+  std::vector<uint32_t> nearMovers;     // scratch: still bodies near the movers (collide)
   std::vector<std::pair<uint32_t, uint32_t>> pairs;
   // The queries' index (world.cpp, "queries"): a tree over the bodies' boxes as they were when
   // it was built, and the bodies whose boxes changed since, tested one by one until testing
@@ -583,6 +606,10 @@ struct World::Impl {
   void wakeAround(uint32_t slot);  // the body, and every body near it
   // The body's box from its pose, after every pose change (createBody, setPose, the solve).
   void refreshBounds(uint32_t slot);
+  void markMoving(uint32_t slot) {
+    const detail::Body& b = bodies[slot];
+    movingSlot[slot] = b.alive && b.awake && b.type != BodyType::Static;
+  }
   // The slots of the bodies whose boxes may overlap `box` or meet the ray, ascending (as the
   // queries visited every body before the tree: the same hits in the same order).
   void queryCandidates(const Aabb& box, std::vector<uint32_t>& out) const;

@@ -31,7 +31,7 @@ const std::map<std::string, std::string> kGolden = {
     {"stack20", "a37773b4306f5d1f"},
     {"ball_into_stack", "2488dc3f58156031"},
     {"incline", "d0bc94462eb0f6f4"},
-    {"mixed", "0e8182407dcaf4b3"},
+    {"mixed", "0f9763709662d931"},
 };
 // clang-format on
 
