@@ -42,6 +42,9 @@ class AabbTree {
   std::vector<Node> nodes_;
   std::vector<uint32_t> items_;  // ids, in leaf order
   std::vector<Aabb> itemBoxes_;  // their boxes, the same order
+  // The build's scratch, kept as the tree is: fresh pages cost more than the build (over
+  // 50 000 boxes on an AMD EPYC VM: 14-18 ms for the first build, 0.9-1.4 ms for later ones).
+  std::vector<uint32_t> codes_, order_, sorted_;
 
   uint32_t buildRange(uint32_t begin, uint32_t end);
 

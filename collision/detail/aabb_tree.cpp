@@ -60,7 +60,10 @@ void AabbTree::build(const std::vector<Aabb>& boxes, const std::vector<uint32_t>
   const Vec3 scale(extent.x() > 0.0 ? 1023.0 / extent.x() : 0.0,
                    extent.y() > 0.0 ? 1023.0 / extent.y() : 0.0,
                    extent.z() > 0.0 ? 1023.0 / extent.z() : 0.0);
-  std::vector<uint32_t> codes(n), order(n), sorted(n);
+  std::vector<uint32_t>& codes = codes_;
+  std::vector<uint32_t>& order = order_;
+  std::vector<uint32_t>& sorted = sorted_;
+  codes.resize(n), order.resize(n), sorted.resize(n);
   // A cell index in [0, 1023] (a NaN, from a box at infinity, to 0).
   auto cellOf = [](double x) {
     return x > 0.0 ? (x < 1023.0 ? static_cast<uint32_t>(x) : 1023u) : 0u;

@@ -640,6 +640,7 @@ void World::Impl::updateSleep(double dt) {
       b.awake = false;
       b.v.setZero(), b.w.setZero();
       b.sleepGroup = group;
+      sleepingIslands[group].push_back(slot);
       markMoving(slot);
     }
   }

@@ -104,17 +104,21 @@ void World::Impl::wakeBody(uint32_t slot) {
     b.restartCalm();
     return;
   }
+  auto wake = [&](uint32_t i) {
+    Body& o = bodies[i];
+    o.awake = true;
+    o.restartCalm();
+    o.sleepGroup = 0;
+    markMoving(i);
+  };
   // Wake the whole sleeping island the body belongs to.
   const uint32_t group = b.sleepGroup;
-  for (Body& o : bodies) {
-    if (!o.alive || o.awake) continue;
-    if (&o == &b || (group != 0 && o.sleepGroup == group)) {
-      o.awake = true;
-      o.restartCalm();
-      o.sleepGroup = 0;
-      markMoving(static_cast<uint32_t>(&o - bodies.data()));
-    }
-  }
+  wake(slot);
+  const auto island = sleepingIslands.find(group);
+  if (group == 0 || island == sleepingIslands.end()) return;
+  for (uint32_t i : island->second)
+    if (bodies[i].alive && !bodies[i].awake && bodies[i].sleepGroup == group) wake(i);
+  sleepingIslands.erase(island);
 }
 
 // Pairs are made and dropped only where a body moves (a pair of still bodies keeps its
@@ -122,9 +126,10 @@ void World::Impl::wakeBody(uint32_t slot) {
 // of its box (a still body's contacts start there) lets the next step find its pairs again.
 void World::Impl::wakeAround(uint32_t slot) {
   wakeBody(slot);
-  const Aabb box = bodies[slot].aabb.inflated(def.speculativeDistance);
-  for (uint32_t i = 0; i < bodies.size(); ++i)
-    if (i != slot && bodies[i].alive && bodies[i].aabb.overlaps(box)) wakeBody(i);
+  static thread_local std::vector<uint32_t> near;
+  queryCandidates(bodies[slot].aabb.inflated(def.speculativeDistance), near);
+  for (uint32_t i : near)
+    if (i != slot) wakeBody(i);
 }
 
 namespace {
@@ -230,6 +235,11 @@ void World::destroyBody(BodyId id) {
     return p.sensor == id.index || p.visitor == id.index;
   });
   impl_->queries.boxes[id.index] = Impl::QueryIndex::nothing();  // found by no query
+  if (const auto island = impl_->sleepingIslands.find(b.sleepGroup);
+      b.sleepGroup != 0 && island != impl_->sleepingIslands.end()) {
+    std::erase(island->second, id.index);
+    if (island->second.empty()) impl_->sleepingIslands.erase(island);
+  }
   const uint32_t generation = b.generation;  // kept so the slot's next body gets a new one
   b = Body{};
   b.generation = generation;
@@ -612,11 +622,11 @@ void World::Impl::candidates(const Tree& treeHits, const Loose& looseHit,
   }
   q.looseTests += q.movedList.size();
   if (q.looseTests > kTestsPerBuild * bodies.size()) {
-    std::vector<Aabb> boxes;
-    std::vector<uint32_t> slots;
+    q.buildBoxes.clear(), q.buildSlots.clear();
     for (uint32_t i = 0; i < q.boxes.size(); ++i)
-      if (q.boxes[i].min.x() <= q.boxes[i].max.x()) boxes.push_back(q.boxes[i]), slots.push_back(i);
-    q.tree.build(boxes, slots);
+      if (q.boxes[i].min.x() <= q.boxes[i].max.x())
+        q.buildBoxes.push_back(q.boxes[i]), q.buildSlots.push_back(i);
+    q.tree.build(q.buildBoxes, q.buildSlots);
     std::fill(q.moved.begin(), q.moved.end(), uint8_t{0});
     q.movedList.clear();
     q.looseTests = 0;

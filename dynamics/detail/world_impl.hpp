@@ -11,6 +11,7 @@
 #include <mutex>
 #include <string>
 #include <tuple>
+#include <unordered_map>
 #include <vector>
 
 #include "collision/aabb_tree.hpp"
@@ -437,6 +438,10 @@ struct World::Impl {
   uint64_t steps = 0;
   double lastSubstep = 0.0;  // s: the last step's substep (contactForce)
   uint32_t nextSleepGroup = 1;
+  // Each sleeping island's bodies by its sleep group (updateSleep), so that waking one wakes
+  // them without walking every body. A body that left (destroyed, given another type) is
+  // told apart by its own sleepGroup.
+  std::unordered_map<uint32_t, std::vector<uint32_t>> sleepingIslands;
 
   SweepBroadphase broadphase;
   std::vector<Aabb> proxyBoxes;
@@ -463,9 +468,11 @@ struct World::Impl {
     std::vector<Aabb> boxes;
     std::vector<uint8_t> moved;
     std::vector<uint32_t> movedList;  // the moved slots, ascending, as of `dirty` last clear
-    bool dirty = true;                // boxes may have changed since movedList was made
-    size_t looseTests = 0;            // moved bodies tested one by one since the build
-    struct Lock : std::mutex {        // not copied with the world: a copy has its own
+    std::vector<Aabb> buildBoxes;     // a build's boxes and their slots (kept, as the tree's)
+    std::vector<uint32_t> buildSlots;
+    bool dirty = true;          // boxes may have changed since movedList was made
+    size_t looseTests = 0;      // moved bodies tested one by one since the build
+    struct Lock : std::mutex {  // not copied with the world: a copy has its own
       Lock() = default;
       Lock(const Lock&) {}
       Lock& operator=(const Lock&) { return *this; }
