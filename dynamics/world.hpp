@@ -385,7 +385,9 @@ class World {
   double time() const;
   uint64_t stepCount() const;
 
-  // Hash of every body's pose and velocities and every joint's impulses (bit exact).
+  // Hash of everything that decides what comes next (bit exact): the bodies' motion, sleep
+  // and what the setters change, the joints' impulses and settings, gravity, the contacts'
+  // warm-start memory. Two worlds that hash alike step alike (docs/determinism.md).
   uint64_t stateHash() const;
 
  private:

@@ -872,7 +872,10 @@ uint64_t World::stepCount() const {
 }
 
 uint64_t World::stateHash() const {
+  // Everything that decides what comes next (as a copy holds it), so that two worlds hashing
+  // alike step alike: what the setters change as well as the motion.
   StateHash h;
+  h.add(impl_->def.gravity);
   for (uint32_t i = 0; i < impl_->bodies.size(); ++i) {
     const Body& b = impl_->bodies[i];
     if (!b.alive) continue;
@@ -881,6 +884,12 @@ uint64_t World::stateHash() const {
     h.add(b.v);
     h.add(b.w);
     h.add(uint64_t(b.awake));
+    h.add(uint64_t(b.type)), h.add(b.invMass), h.add(b.principalInertia);
+    h.add(b.material.staticFriction), h.add(b.material.dynamicFriction);
+    h.add(b.material.restitution);
+    h.add(b.gravityScale), h.add(b.linearDamping), h.add(b.angularDamping);
+    h.add(uint64_t(b.allowSleep)), h.add(b.sleepTime), h.add(b.restCom), h.add(b.restQ);
+    h.add(b.filter.category), h.add(b.filter.mask), h.add(uint64_t(int64_t{b.filter.group}));
   }
   for (uint32_t i = 0; i < impl_->joints.size(); ++i) {
     const detail::Joint& j = impl_->joints[i];
@@ -890,7 +899,25 @@ uint64_t World::stateHash() const {
     h.add(j.lowerImpulse), h.add(j.upperImpulse), h.add(j.motorImpulse), h.add(j.springImpulse);
     h.add(j.rodStretch);
     if (j.type == JointType::Distance) h.add(j.restLength);  // setJointLength changes it
+    h.add(uint64_t(j.enableLimit)), h.add(j.lower), h.add(j.upper);
+    h.add(uint64_t(j.enableMotor)), h.add(j.motorSpeed), h.add(j.maxMotorForce);
+    h.add(uint64_t(j.enableSpring)), h.add(j.springHertz), h.add(j.springDampingRatio);
+    h.add(j.springTarget);
   }
+  // The contacts' warm-start memory, whichever of the contact lists holds each (that depends
+  // on what moved): summed and xored over manifolds, so in no particular order.
+  uint64_t sum = 0, mixed = 0;
+  impl_->contacts.forEach([&](const detail::ContactManifold& c) {
+    StateHash m;
+    m.add(uint64_t(c.bodyA)), m.add(uint64_t(c.bodyB));
+    m.add(uint64_t(c.m.childA)), m.add(uint64_t(c.m.childB));
+    for (int k = 0; k < c.m.pointCount; ++k)
+      m.add(uint64_t(c.state[k].featureId)), m.add(c.state[k].normalImpulse);
+    for (double x : c.friction) m.add(x);
+    m.add(uint64_t(c.sliding)), m.add(uint64_t(c.anchored));
+    sum += m.value(), mixed ^= m.value();
+  });
+  h.add(sum), h.add(mixed);
   return h.value();
 }
 
