@@ -358,7 +358,11 @@ class World {
   void queryBounds(const Aabb& box, std::vector<BodyId>& bodies,
                    const QueryFilter& filter = {}) const;
 
-  // Events of the last step, in a deterministic order.
+  // Events of the last step, in a deterministic order. Every begin gets its end: a pair taken
+  // away between steps (destroyBody, or setBodyType leaving two bodies that make no contact)
+  // ends in the next step's end lists, ahead of that step's own, with the ids it had (a
+  // destroyed body's no longer valid), as Box2D v3.1 reports a destroyed shape's. A body that
+  // falls asleep touching or inside a sensor has not left: its pairs go on.
   const std::vector<ContactEvent>& contactBeginEvents() const;
   const std::vector<ContactEvent>& contactEndEvents() const;
   const std::vector<SensorEvent>& sensorBeginEvents() const;

@@ -24,7 +24,9 @@ void World::step(double dt) {
   if (dt < 0.0) throw Error("step.dt", "must not be negative");
   if (dt == 0.0) return;
   Impl& w = *impl_;
-  w.beginEvents.clear(), w.endEvents.clear(), w.sensorBegin.clear(), w.sensorEnd.clear();
+  w.beginEvents.clear(), w.sensorBegin.clear();
+  w.endEvents.swap(w.droppedEnds), w.sensorEnd.swap(w.droppedSensorEnds);
+  w.droppedEnds.clear(), w.droppedSensorEnds.clear();
   w.jointBreaks.clear();
   w.queries.dirty = true;  // the solve moves boxes
   if (w.jointAliveCount > 0) w.wakeJoinedBodies();
@@ -204,8 +206,7 @@ bool World::Impl::collide(double dt) {
   atRest = regionSlots.empty() && contacts.run[0].empty() && contacts.run[1].empty();
   if (atRest) {
     pairs.clear();
-    previousSensorPairs.swap(sensorPairs);
-    sensorPairs.clear();
+    previousSensorPairs = sensorPairs;  // every overlap stays (keepSensorPairs)
     stats.candidatePairs = 0, stats.reusedManifolds = 0;
     regionPairEnd = 0;
     return false;
@@ -256,7 +257,20 @@ bool World::Impl::collide(double dt) {
     return true;
   }
   keepContacts();
+  keepSensorPairs();
   return false;
+}
+
+// The overlaps of a sensor and a visitor that both stay put (sleeping, or one static) go on
+// as they were: no pair between still bodies is looked for, and a box that falls asleep
+// inside a trigger has not left it (Unity's triggers report no exit for a sleeping body).
+// Two static bodies never make a pair, so a visitor turned static leaves.
+void World::Impl::keepSensorPairs() {
+  for (const detail::SensorPair& p : previousSensorPairs) {
+    const Body &S = bodies[p.sensor], &V = bodies[p.visitor];
+    const bool oneMovable = S.type != BodyType::Static || V.type != BodyType::Static;
+    if (!movingSlot[p.sensor] && !movingSlot[p.visitor] && oneMovable) sensorPairs.push_back(p);
+  }
 }
 
 // The contacts between bodies that do not move (sleeping or static) are not recomputed: last
@@ -493,6 +507,15 @@ void touchingPairs(const detail::ContactRuns& list, int runs, std::vector<PairTo
 }
 }  // namespace
 
+ContactEvent World::Impl::contactEvent(const ContactManifold& c) const {
+  ContactEvent e;
+  e.a = idOf(c.bodyA), e.b = idOf(c.bodyB);
+  e.normal = c.m.normal;
+  e.point = c.m.points[0].position;
+  e.approachSpeed = std::max(0.0, c.approachSpeed);
+  return e;
+}
+
 void World::Impl::contactEvents() {
   static thread_local std::vector<PairTouch> now, before;
   // At rest the contacts are last step's (collide), and `previous` was not moved up to them.
@@ -501,21 +524,13 @@ void World::Impl::contactEvents() {
   now.clear(), before.clear();
   const int runs = keptTakenOver ? 2 : 3;
   if (!atRest) touchingPairs(contacts, runs, now), touchingPairs(previous, runs, before);
-  auto event = [&](const ContactManifold& c) {
-    ContactEvent e;
-    e.a = idOf(c.bodyA), e.b = idOf(c.bodyB);
-    e.normal = c.m.normal;
-    e.point = c.m.points[0].position;
-    e.approachSpeed = std::max(0.0, c.approachSpeed);
-    return e;
-  };
   size_t i = 0, j = 0;
   while (i < now.size() || j < before.size()) {
     if (j == before.size() || (i < now.size() && now[i].key < before[j].key)) {
-      beginEvents.push_back(event(*now[i++].first));
+      beginEvents.push_back(contactEvent(*now[i++].first));
     } else if (i == now.size() || before[j].key < now[i].key) {
       const ContactManifold& c = *before[j++].first;
-      if (bodies[c.bodyA].alive && bodies[c.bodyB].alive) endEvents.push_back(event(c));
+      if (bodies[c.bodyA].alive && bodies[c.bodyB].alive) endEvents.push_back(contactEvent(c));
     } else {
       ++i, ++j;
     }

@@ -1,5 +1,6 @@
 // The World's public API: creation, validation, forces, state access and queries.
 #include <algorithm>
+#include <optional>
 
 #include <Eigen/Eigenvalues>
 
@@ -217,22 +218,36 @@ BodyId World::createBody(const BodyDef& d) {
   return BodyId{slot, impl_->bodies[slot].generation};
 }
 
+template <class Drops>
+void World::Impl::dropContacts(const Drops& drops) {
+  for (auto& r : contacts.run) {
+    // A pair's manifolds are next to each other in its run: one end for the pair.
+    std::optional<uint64_t> ended;
+    for (const detail::ContactManifold& c : r) {
+      if (!c.touching || !drops(c) || ended == c.pairKey()) continue;
+      droppedEnds.push_back(contactEvent(c));
+      ended = c.pairKey();
+    }
+    std::erase_if(r, drops);
+    r.indexKeys();
+  }
+}
+
 void World::destroyBody(BodyId id) {
   Body& b = impl_->body(id, "destroyBody.id");
   impl_->destroyJointsOf(id.index);
-  // Wake whatever rested on it, then drop its contacts.
+  // Wake whatever rested on it, then drop its contacts and overlaps (their ends reported by
+  // the next step).
   impl_->contacts.forEach([&](const detail::ContactManifold& c) {
     if (c.bodyA == id.index) impl_->wakeBody(c.bodyB);
     if (c.bodyB == id.index) impl_->wakeBody(c.bodyA);
   });
-  for (auto& run : impl_->contacts.run) {
-    std::erase_if(run, [&](const detail::ContactManifold& c) {
-      return c.bodyA == id.index || c.bodyB == id.index;
-    });
-    run.indexKeys();
-  }
+  impl_->dropContacts(
+      [&](const detail::ContactManifold& c) { return c.bodyA == id.index || c.bodyB == id.index; });
   std::erase_if(impl_->sensorPairs, [&](const detail::SensorPair& p) {
-    return p.sensor == id.index || p.visitor == id.index;
+    if (p.sensor != id.index && p.visitor != id.index) return false;
+    impl_->droppedSensorEnds.push_back({impl_->idOf(p.sensor), impl_->idOf(p.visitor)});
+    return true;
   });
   impl_->queries.boxes[id.index] = Impl::QueryIndex::nothing();  // found by no query
   if (const auto island = impl_->sleepingIslands.find(b.sleepGroup);
@@ -291,10 +306,7 @@ void World::setBodyType(BodyId id, BodyType type) {
     if (c.bodyA == id.index) impl_->wakeBody(c.bodyB);
     if (c.bodyB == id.index) impl_->wakeBody(c.bodyA);
   });
-  for (auto& run : impl_->contacts.run) {
-    std::erase_if(run, noPair);
-    run.indexKeys();
-  }
+  impl_->dropContacts(noPair);
   impl_->wakeBody(id.index);
 }
 

@@ -552,11 +552,16 @@ struct World::Impl {
   std::vector<ContactEvent> beginEvents, endEvents;
   std::vector<JointBreakEvent> jointBreaks;
   std::vector<SensorEvent> sensorBegin, sensorEnd;
+  // The ends of touching pairs and sensor overlaps that destroyBody or setBodyType took away
+  // between steps: the next step's end lists open with them, so each begin has its end.
+  std::vector<ContactEvent> droppedEnds;
+  std::vector<SensorEvent> droppedSensorEnds;
   StepStats stats;
   int constraintCount = 0;
 
   // Stages of one step (see step.cpp).
   bool collide(double dt);  // true when it woke a sleeping body
+  void keepSensorPairs();
   void assignRegions();
   // A cursor per run of previous, all walked forward along pairs in key order.
   using PreviousCursors = std::array<size_t, 3>;
@@ -606,6 +611,11 @@ struct World::Impl {
   detail::Body& body(BodyId id, const char* field);
   const detail::Body& body(BodyId id, const char* field) const;
   BodyId idOf(uint32_t slot) const { return BodyId{slot, bodies[slot].generation}; }
+  ContactEvent contactEvent(const detail::ContactManifold& c) const;
+  // Takes away the manifolds `drops` picks (between steps), each touching pair's end queued
+  // in droppedEnds.
+  template <class Drops>
+  void dropContacts(const Drops& drops);
   void wakeBody(uint32_t slot);
   // A joint's limit, motor or spring changed by `change`, and its bodies woken (joints.cpp).
   template <class Change>

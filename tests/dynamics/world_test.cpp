@@ -946,6 +946,60 @@ TEST(Events, ContactBeginsOnLandingAndEndsOnLift) {
   EXPECT_EQ(ends, 1);
 }
 
+// A pair taken away between steps (its body destroyed, or turned so that no contact is made
+// with its partner) still ends: the next step's end lists open with it, once per pair, with
+// the ids the pair had (the destroyed body's no longer valid); the step after has none.
+TEST(Events, DestroyingOrRetypingABodyEndsItsTouchingPairs) {
+  World w;
+  const BodyId ground = addGround(w);
+  const BodyId sensor = addStaticSensor(w, Shape::box(Vec3(2, 0.5, 2)), Vec3(0, 0.5, 0));
+  const BodyId doomed = addBox(w, Vec3(-0.5, 0.1, 0), Vec3::Constant(0.1));
+  const BodyId retyped = addBox(w, Vec3(0.5, 0.1, 0), Vec3::Constant(0.1));
+  const BodyId resting = addBox(w, Vec3(0.5, 0.3, 0), Vec3::Constant(0.1));  // on `retyped`
+  auto pairIs = [](BodyId a, BodyId b, BodyId x, BodyId y) {
+    return (a == x && b == y) || (a == y && b == x);
+  };
+  auto countBegins = [&](BodyId x, BodyId y) {
+    int n = 0;
+    for (const ContactEvent& e : w.contactBeginEvents()) n += pairIs(e.a, e.b, x, y);
+    return n;
+  };
+  int begins[3] = {}, overlaps = 0;
+  for (int i = 0; i < 60; ++i) {
+    w.step(1.0 / 60.0);
+    begins[0] += countBegins(ground, doomed), begins[1] += countBegins(ground, retyped);
+    begins[2] += countBegins(retyped, resting);
+    overlaps += static_cast<int>(w.sensorBeginEvents().size());
+    ASSERT_TRUE(w.contactEndEvents().empty() && w.sensorEndEvents().empty()) << "step " << i;
+  }
+  ASSERT_EQ(begins[0], 1);
+  ASSERT_EQ(begins[1], 1);
+  ASSERT_EQ(begins[2], 1);
+  ASSERT_EQ(overlaps, 3);  // each box in the sensor
+
+  w.destroyBody(doomed);
+  w.setBodyType(retyped, BodyType::Kinematic);  // no contact with the static ground any more
+  EXPECT_TRUE(w.contactEndEvents().empty());    // the last step's lists until the next step
+  w.step(1.0 / 60.0);
+  const std::vector<ContactEvent>& ends = w.contactEndEvents();
+  ASSERT_EQ(ends.size(), 2u);
+  EXPECT_TRUE(pairIs(ends[0].a, ends[0].b, ground, doomed));
+  EXPECT_TRUE(pairIs(ends[1].a, ends[1].b, ground, retyped));
+  EXPECT_FALSE(w.isValid(doomed));
+  EXPECT_NEAR(ends[0].normal.y(), 1.0, 1e-6);  // as the pair last touched: from ground to box
+  ASSERT_EQ(w.sensorEndEvents().size(), 1u);
+  EXPECT_EQ(w.sensorEndEvents()[0].sensor, sensor);
+  EXPECT_EQ(w.sensorEndEvents()[0].visitor, doomed);
+  EXPECT_TRUE(w.contactBeginEvents().empty());
+  // The box on the now kinematic one keeps touching it; nothing else ends later.
+  for (int i = 0; i < 30; ++i) {
+    w.step(1.0 / 60.0);
+    EXPECT_TRUE(w.contactEndEvents().empty() && w.sensorEndEvents().empty()) << "step " << i;
+  }
+  EXPECT_EQ(w.contactManifolds(retyped, resting).size(), 1u);
+  EXPECT_TRUE(w.contactManifolds(ground, retyped).empty());
+}
+
 // While a pusher moves and everything else sleeps, the kept contacts are last step's as they
 // were and are taken over whole (World::Impl::keepContacts); islands that fall asleep join
 // them, islands the pusher wakes leave them. Every step the events add up to exactly the pairs
@@ -1052,19 +1106,57 @@ TEST(Events, AgreeWithTheManifoldsInAWorldOfTwoRegions) {
     EXPECT_TRUE(touches(a, b));
   }
   EXPECT_THROW(w.contactManifolds(gone, ground), Error);
-  std::erase_if(touching,
-                [&](const auto& p) { return p.first == gone.index || p.second == gone.index; });
   idOf.erase(gone.index);
   w.step(1.0 / 60.0);  // the lists without the body step on
   for (const ContactEvent& e : w.contactBeginEvents()) {
     EXPECT_NE(e.a, gone);
     EXPECT_NE(e.b, gone);
   }
-  // ... and their events still add up to the manifolds (each list's packed pair keys were set
+  // ... the ends of the body's pairs open the end list, one each ...
+  const std::vector<ContactEvent>& ends = w.contactEndEvents();
+  ASSERT_GE(ends.size(), static_cast<size_t>(pairsOfGone));
+  for (int k = 0; k < pairsOfGone; ++k) EXPECT_TRUE(ends[k].a == gone || ends[k].b == gone);
+  for (size_t k = static_cast<size_t>(pairsOfGone); k < ends.size(); ++k)
+    EXPECT_TRUE(ends[k].a != gone && ends[k].b != gone);
+  // ... and the events still add up to the manifolds (each list's packed pair keys were set
   // again when the body's contacts left it).
-  for (const ContactEvent& e : w.contactEndEvents()) ASSERT_EQ(touching.erase(key(e)), 1u);
+  for (const ContactEvent& e : ends) ASSERT_EQ(touching.erase(key(e)), 1u);
   for (const ContactEvent& e : w.contactBeginEvents()) ASSERT_TRUE(touching.insert(key(e)).second);
   for (const auto& [a, b] : touching) EXPECT_TRUE(touches(a, b)) << a << " " << b;
+}
+
+// A box that falls asleep inside a trigger has not left it: no end while it sleeps, whether
+// the whole world rests or something else moves, and one end when it is knocked out.
+TEST(Sensors, ABodyAsleepInsideStaysInsideUntilItLeaves) {
+  World w;
+  addGround(w);
+  const BodyId sensor = addStaticSensor(w, Shape::box(Vec3(1, 0.5, 1)), Vec3(0, 0.5, 0));
+  const BodyId box = addBox(w, Vec3(0, 0.1, 0), Vec3::Constant(0.1));
+  int begins = 0, ends = 0;
+  auto count = [&] {
+    begins += static_cast<int>(w.sensorBeginEvents().size());
+    ends += static_cast<int>(w.sensorEndEvents().size());
+  };
+  for (int i = 0; i < 90; ++i) w.step(1.0 / 60.0), count();  // asleep, the world at rest
+  ASSERT_FALSE(w.isAwake(box));
+  BodyDef d;  // something moving elsewhere: the step looks for pairs again
+  d.shape = Shape::sphere(0.1);
+  d.position = Vec3(5, 2, 0);
+  w.createBody(d);
+  for (int i = 0; i < 30; ++i) w.step(1.0 / 60.0), count();
+  EXPECT_FALSE(w.isAwake(box));
+  EXPECT_EQ(begins, 1);
+  EXPECT_EQ(ends, 0);
+  w.setLinearVelocity(box, Vec3(8, 0, 0));
+  for (int i = 0; i < 30; ++i) {
+    w.step(1.0 / 60.0), count();
+    for (const SensorEvent& e : w.sensorEndEvents())
+      EXPECT_TRUE(e.sensor == sensor && e.visitor == box);
+  }
+  EXPECT_GT(w.pose(box).p.x(), 1.2);
+  EXPECT_EQ(begins, 1);
+  EXPECT_EQ(ends, 1);
+  EXPECT_EQ(w.sensorEndEvents().size(), 0u);
 }
 
 TEST(Sensors, ReportOverlapsAndNeverMakeConstraints) {
