@@ -953,7 +953,11 @@ TEST(Events, DestroyingOrRetypingABodyEndsItsTouchingPairs) {
   World w;
   const BodyId ground = addGround(w);
   const BodyId sensor = addStaticSensor(w, Shape::box(Vec3(2, 0.5, 2)), Vec3(0, 0.5, 0));
-  const BodyId doomed = addBox(w, Vec3(-0.5, 0.1, 0), Vec3::Constant(0.1));
+  BodyDef pair;  // two cubes in one body: two manifolds with the ground, one pair
+  pair.shape = Shape::compound({{Shape::box(Vec3::Constant(0.1)), Transform{Vec3(-0.2, 0, 0)}},
+                                {Shape::box(Vec3::Constant(0.1)), Transform{Vec3(0.2, 0, 0)}}});
+  pair.position = Vec3(-0.8, 0.1, 0);
+  const BodyId doomed = w.createBody(pair);
   const BodyId retyped = addBox(w, Vec3(0.5, 0.1, 0), Vec3::Constant(0.1));
   const BodyId resting = addBox(w, Vec3(0.5, 0.3, 0), Vec3::Constant(0.1));  // on `retyped`
   auto pairIs = [](BodyId a, BodyId b, BodyId x, BodyId y) {
@@ -975,7 +979,8 @@ TEST(Events, DestroyingOrRetypingABodyEndsItsTouchingPairs) {
   ASSERT_EQ(begins[0], 1);
   ASSERT_EQ(begins[1], 1);
   ASSERT_EQ(begins[2], 1);
-  ASSERT_EQ(overlaps, 3);  // each box in the sensor
+  ASSERT_EQ(overlaps, 3);  // each body in the sensor
+  ASSERT_EQ(w.contactManifolds(ground, doomed).size(), 2u);
 
   w.destroyBody(doomed);
   w.setBodyType(retyped, BodyType::Kinematic);  // no contact with the static ground any more
