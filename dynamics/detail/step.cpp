@@ -7,6 +7,7 @@
 //   updateSleep   islands; islands at rest long enough fall asleep
 //   finishStep    clear forces, advance time
 #include <algorithm>
+#include <atomic>
 #include <functional>
 #include <limits>
 #include <numeric>
@@ -66,9 +67,14 @@ bool isPolytope(const Shape& s) {
   return s.type() == ShapeType::Box || s.type() == ShapeType::ConvexHull;
 }
 
+// The velocity of the body's material at x.
+Vec3 pointVelocity(const Body& b, const Vec3& x) {
+  return b.v + b.w.cross(x - b.com);
+}
+
 // How fast the bodies close along `normal` at x.
 double closingSpeedAt(const Body& A, const Body& B, const Vec3& normal, const Vec3& x) {
-  return -((B.v + B.w.cross(x - B.com)) - (A.v + A.w.cross(x - A.com))).dot(normal);
+  return -(pointVelocity(B, x) - pointVelocity(A, x)).dot(normal);
 }
 
 // How fast the bodies close along the normal at the manifold's first point.
@@ -402,18 +408,24 @@ void World::Impl::narrowphase(int region, double dt) {
     const double margin = def.speculativeDistance + std::min(approach, 1.0);
     // A sleeping body wakes (collide) when a point touches or closes this step at the speed
     // it closes with: treated as still, the sleeper would stop a ball rolling into it dead, its
-    // speculative contact a wall, and wake a step later without the blow.
+    // speculative contact a wall, and wake a step later without the blow. Not where nothing
+    // moves at the point (a kinematic platform standing still under a sleeping box would
+    // wake it each time it fell asleep).
     const size_t first = made.size();
     auto wakeIfReached = [&] {
       if (A.awake == B.awake) return;
       const uint32_t sleeper = A.awake ? ib : ia;
       if (!bodies[sleeper].isDynamic()) return;
+      const Vec3 gain = motion[ia].acceleration - motion[ib].acceleration;
       for (size_t i = first; i < made.size(); ++i) {
         const Manifold& m = made[i].m;
-        const double gained = (motion[ia].acceleration - motion[ib].acceleration).dot(m.normal);
+        const double gained = gain.dot(m.normal);
         for (int k = 0; k < m.pointCount; ++k) {
-          const double closing = closingSpeedAt(A, B, m.normal, m.points[k].position);
-          if (m.points[k].separation < kTouching + std::max(closing + gained * dt, 0.0) * dt) {
+          const Vec3& x = m.points[k].position;
+          const bool moves = gain != Vec3::Zero() || pointVelocity(A, x) != pointVelocity(B, x);
+          const double closing = closingSpeedAt(A, B, m.normal, x);
+          if (moves &&
+              m.points[k].separation < kTouching + std::max(closing + gained * dt, 0.0) * dt) {
             out.sleepersTouched.push_back(sleeper);
             return;
           }
@@ -593,6 +605,10 @@ void World::Impl::updateSleep(double dt) {
   // Each body's calm time, on the thread of its region (the body's cache lines are that
   // thread's); the islands read the packed copies.
   calmTimes.resize(n), calmDynamic.resize(n);
+  const auto movingKinematic = [](const Body& b) {
+    return b.type == BodyType::Kinematic && !(b.v.isZero(0.0) && b.w.isZero(0.0));
+  };
+  std::atomic<bool> kinematicMoves = false;
   inBothRegions([&](int region) {
     for (int k : bodiesOf(region)) {
       Body& b = bodies[awakeBodies[k]];
@@ -601,8 +617,26 @@ void World::Impl::updateSleep(double dt) {
       else
         b.restartCalm();
       calmTimes[k] = b.sleepTime, calmDynamic[k] = b.isDynamic();
+      if (movingKinematic(b)) kinematicMoves.store(true, std::memory_order_relaxed);
     }
   });
+  // A body touching a moving kinematic one is carried or pushed by it: not calm, however slow
+  // (a box on a platform that has just started is, for a step or two).
+  if (kinematicMoves)
+    for (int r = 0; r < 2; ++r) {
+      const detail::ContactRuns::Run& run = contacts.run[r];
+      for (size_t i = 0; i < run.size(); ++i) {
+        if (!run.touching[i]) continue;
+        const uint32_t a = detail::firstOfPair(run.pairKeys[i]);
+        const uint32_t b = detail::secondOfPair(run.pairKeys[i]);
+        for (const auto& [mover, other] : {std::pair{a, b}, std::pair{b, a}}) {
+          const int s = solverIndexOf[other];
+          if (s == 0 || !movingKinematic(bodies[mover])) continue;
+          bodies[other].restartCalm();
+          calmTimes[static_cast<size_t>(s - 1)] = 0.0;
+        }
+      }
+    }
   // The solver index of a body awake (moving) and dynamic, else 0.
   auto awakeDynamic = [&](uint32_t slot) {
     const int s = solverIndexOf[slot];

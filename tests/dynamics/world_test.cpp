@@ -44,6 +44,16 @@ BodyId addBox(World& w, const Vec3& pos, const Vec3& half, double mass = 1.0) {
   return w.createBody(d);
 }
 
+// A kinematic slab 2 m wide, its top at 0.6 m, moving at `velocity`.
+BodyId addPlatform(World& w, const Vec3& velocity) {
+  BodyDef p;
+  p.type = BodyType::Kinematic;
+  p.shape = Shape::box(Vec3(1, 0.1, 1));
+  p.position = Vec3(0, 0.5, 0);
+  p.linearVelocity = velocity;
+  return w.createBody(p);
+}
+
 // The last step's contact events as "step begin|end a b" (body indices), to compare runs.
 void recordEvents(const World& w, int step, std::vector<std::string>& out) {
   for (const ContactEvent& e : w.contactBeginEvents())
@@ -917,6 +927,56 @@ TEST(Sleep, ABoxStartingToSlideSlowlyIsNotFrozen) {
   }
   const double expected = 0.5 * accel * 3.0 * 3.0;
   EXPECT_NEAR(w.pose(box).p.x(), expected, 0.05 * expected);
+}
+
+// A box on a kinematic platform sleeps while the platform stands still (an awake platform at
+// rest does not wake it step after step), wakes when the platform moves off and rides it,
+// gaining speed at mu_d g from the first step without a drop (it fell asleep for a step on
+// a platform that had just started), and sleeps again once the platform stops.
+TEST(Sleep, ABoxOnAKinematicPlatformSleepsWhileItStandsAndRidesWhenItMoves) {
+  World w;
+  addGround(w);
+  const BodyId platform = addPlatform(w, Vec3::Zero());
+  const BodyId box = addBox(w, Vec3(0, 0.7, 0), Vec3::Constant(0.1));
+  int fellAsleep = -1, wakings = 0;
+  for (int i = 0; i < 180; ++i) {
+    const bool was = w.isAwake(box);
+    w.step(1.0 / 60.0);
+    if (!w.isAwake(box) && fellAsleep < 0) fellAsleep = i;
+    wakings += !was && w.isAwake(box);
+  }
+  ASSERT_GE(fellAsleep, 0);
+  EXPECT_LT(fellAsleep, 60);
+  EXPECT_EQ(wakings, 0);
+  EXPECT_TRUE(w.isAwake(platform));
+  const double speed = 0.6, gain = 0.5 * 9.81 / 60.0;  // mu_d g per step
+  w.setLinearVelocity(platform, Vec3(speed, 0, 0));
+  double last = 0.0;
+  for (int i = 0; i < 60; ++i) {
+    w.step(1.0 / 60.0);
+    ASSERT_TRUE(w.isAwake(box)) << "step " << i;
+    const double v = w.linearVelocity(box).x();
+    EXPECT_NEAR(v, std::min((i + 1) * gain, speed), 0.03) << "step " << i;
+    EXPECT_GE(v, last - 5e-3) << "step " << i;
+    last = v;
+  }
+  w.setLinearVelocity(platform, Vec3::Zero());
+  for (int i = 0; i < 90; ++i) w.step(1.0 / 60.0);
+  EXPECT_FALSE(w.isAwake(box));
+}
+
+// A box riding a slow platform (a conveyor at 2 cm/s, slower than the sleep velocity) stays
+// awake all the way: asleep, it would stop dead each time, and be woken the step after.
+TEST(Sleep, ABoxRidingASlowPlatformStaysAwake) {
+  World w;
+  addGround(w);
+  const BodyId platform = addPlatform(w, Vec3(0.02, 0, 0));
+  const BodyId box = addBox(w, Vec3(0, 0.7, 0), Vec3::Constant(0.1));
+  for (int i = 0; i < 240; ++i) {
+    w.step(1.0 / 60.0);
+    ASSERT_TRUE(w.isAwake(box)) << "asleep after " << (i + 1) / 60.0 << " s";
+  }
+  EXPECT_NEAR(w.pose(box).p.x(), w.pose(platform).p.x(), 1e-3);  // carried, not left behind
 }
 
 TEST(Events, ContactBeginsOnLandingAndEndsOnLift) {
