@@ -384,7 +384,7 @@ class World {
   Vec3 contactForce(BodyId a, BodyId b) const;
   const StepStats& stats() const;
   const WorldDef& def() const;
-  void setGravity(const Vec3& g);
+  void setGravity(const Vec3& g);  // a change wakes every sleeping dynamic body
   Vec3 gravity() const;
   double time() const;
   uint64_t stepCount() const;

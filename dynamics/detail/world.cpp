@@ -871,7 +871,14 @@ const WorldDef& World::def() const {
 }
 void World::setGravity(const Vec3& g) {
   requireFinite(g, "setGravity.gravity");
+  if (g == impl_->def.gravity) return;
   impl_->def.gravity = g;
+  // Every sleeping dynamic body wakes to feel it (a sleeping body must not act otherwise than
+  // an awake one would; PhysX, Jolt and Box2D leave them hanging until touched).
+  for (uint32_t slot = 0; slot < impl_->bodies.size(); ++slot) {
+    const Body& b = impl_->bodies[slot];
+    if (b.alive && b.isDynamic() && !b.awake) impl_->wakeBody(slot);
+  }
 }
 Vec3 World::gravity() const {
   return impl_->def.gravity;

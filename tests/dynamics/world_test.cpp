@@ -979,6 +979,22 @@ TEST(Sleep, ABoxRidingASlowPlatformStaysAwake) {
   EXPECT_NEAR(w.pose(box).p.x(), w.pose(platform).p.x(), 1e-3);  // carried, not left behind
 }
 
+// Gravity turned over lifts a box asleep on the floor as it would an awake one (free fall
+// upwards from rest); setting the same gravity again wakes nothing.
+TEST(Sleep, ChangingGravityWakesTheSleepers) {
+  World w;
+  addGround(w);
+  const BodyId box = addBox(w, Vec3(0, 0.1, 0), Vec3::Constant(0.1));
+  for (int i = 0; i < 120; ++i) w.step(1.0 / 60.0);
+  ASSERT_FALSE(w.isAwake(box));
+  w.setGravity(w.gravity());
+  EXPECT_FALSE(w.isAwake(box));
+  w.setGravity(Vec3(0, 9.81, 0));
+  EXPECT_TRUE(w.isAwake(box));
+  for (int i = 0; i < 60; ++i) w.step(1.0 / 60.0);
+  EXPECT_NEAR(w.pose(box).p.y(), 0.1 + 0.5 * 9.81, 0.05);
+}
+
 TEST(Events, ContactBeginsOnLandingAndEndsOnLift) {
   World w;
   const BodyId ground = addGround(w);
