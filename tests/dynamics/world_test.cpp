@@ -44,6 +44,15 @@ BodyId addBox(World& w, const Vec3& pos, const Vec3& half, double mass = 1.0) {
   return w.createBody(d);
 }
 
+// The ground and a 0.2 m cube at rest on it, stepped until it sleeps.
+BodyId addBoxAsleepOnGround(World& w) {
+  addGround(w);
+  const BodyId box = addBox(w, Vec3(0, 0.1, 0), Vec3::Constant(0.1));
+  for (int i = 0; i < 180 && w.isAwake(box); ++i) w.step(1.0 / 60.0);
+  EXPECT_FALSE(w.isAwake(box));
+  return box;
+}
+
 // A kinematic slab 2 m wide, its top at 0.6 m, moving at `velocity`.
 BodyId addPlatform(World& w, const Vec3& velocity) {
   BodyDef p;
@@ -983,10 +992,7 @@ TEST(Sleep, ABoxRidingASlowPlatformStaysAwake) {
 // upwards from rest); setting the same gravity again wakes nothing.
 TEST(Sleep, ChangingGravityWakesTheSleepers) {
   World w;
-  addGround(w);
-  const BodyId box = addBox(w, Vec3(0, 0.1, 0), Vec3::Constant(0.1));
-  for (int i = 0; i < 120; ++i) w.step(1.0 / 60.0);
-  ASSERT_FALSE(w.isAwake(box));
+  const BodyId box = addBoxAsleepOnGround(w);
   w.setGravity(w.gravity());
   EXPECT_FALSE(w.isAwake(box));
   w.setGravity(Vec3(0, 9.81, 0));
@@ -1356,10 +1362,7 @@ TEST(ContactForce, OnAnInclineTheNormalAndFrictionPartsBalanceGravityOrSlide) {
 
 TEST(Setters, GravityScaleDampingSleepAndUserDataChangeALiveBody) {
   World w;
-  addGround(w);
-  const BodyId box = addBox(w, Vec3(0, 0.1, 0), Vec3::Constant(0.1));
-  for (int i = 0; i < 180; ++i) w.step(1.0 / 60.0);
-  ASSERT_FALSE(w.isAwake(box));
+  const BodyId box = addBoxAsleepOnGround(w);
   // Gravity reversed: it wakes and falls up, g t^2 / 2 within the substep's half step.
   w.setGravityScale(box, -1.0);
   EXPECT_TRUE(w.isAwake(box));
