@@ -142,7 +142,12 @@ struct BodyDef {
 
 struct WorldDef {
   Vec3 gravity = Vec3(0.0, -9.81, 0.0);
-  int substeps = 4;                 // solver substeps per step (soft step solver)
+  int substeps = 4;  // solver substeps per step (soft step solver)
+  // s: a step longer than substeps x this (a frame hitch passed as dt) takes more substeps, one
+  // per maxSubstep (up to 1000), so that its contacts keep their stiffness (contactHertz is
+  // capped at a quarter of the substep rate: 1/120 s holds 30 Hz) and a settled stack stands
+  // through a 0.5 s step (docs/dynamics.md). Steps of 1/30 s or less at 4 substeps keep them.
+  double maxSubstep = 1.0 / 120.0;
   int relaxIterations = 1;          // velocity passes without position bias per substep (the last
                                     // one propagates support from the ground up: shock propagation)
   int maxRelaxIterations = 24;      // tall islands get extra relax passes, up to this many

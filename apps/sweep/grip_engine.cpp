@@ -1,4 +1,6 @@
 // grip behind the sweep's Sim interface, and the grid grip is swept over.
+#include <algorithm>
+
 #include "dynamics/scenes.hpp"
 #include "dynamics/world.hpp"
 #include "sweep/sweep.hpp"
@@ -58,6 +60,7 @@ class GripSim : public Sim {
     d.workerThreads = threads;
     d.gravity = sc.gravity;
     d.substeps = s.substeps;
+    d.maxSubstep = std::max(d.maxSubstep, s.dt / s.substeps);  // the setting swept, as it is
     d.relaxIterations = s.iterations;
     d.enableSleep = sc.sleep;
     return d;

@@ -23,6 +23,7 @@ constexpr double kMass = 0.1, kHalf = 0.03;
 bool holds(const Settings& s, double depth, double& wall, double& simulated) {
   WorldDef wd;
   wd.substeps = s.substeps;
+  wd.maxSubstep = std::max(wd.maxSubstep, s.dt / s.substeps);  // the setting swept, as it is
   wd.relaxIterations = s.iterations;
   World w(wd);
   Interaction ix;

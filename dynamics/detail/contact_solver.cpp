@@ -795,7 +795,7 @@ void World::Impl::forManifolds(int region, const Each& each) {
 }
 
 void World::Impl::solve(double dt) {
-  const int substeps = def.substeps;
+  const int substeps = substepsFor(dt);
   const double h = dt / substeps;
 
   setUpSolverBodies();

@@ -40,7 +40,7 @@ void World::step(double dt) {
   w.updateSleep(dt);
   w.finishStep();
   w.time += dt;
-  w.lastSubstep = dt / w.def.substeps;
+  w.lastSubstep = dt / w.substepsFor(dt);
   if (w.jointAliveCount > 0) w.breakJoints();
   ++w.steps;
 }

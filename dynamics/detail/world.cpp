@@ -15,6 +15,7 @@ namespace {
 void validateWorldDef(const WorldDef& d) {
   requireFinite(d.gravity, "WorldDef.gravity");
   if (d.substeps < 1 || d.substeps > 64) throw Error("WorldDef.substeps", "must be in 1..64");
+  requirePositive(d.maxSubstep, "WorldDef.maxSubstep");
   if (d.relaxIterations < 0 || d.relaxIterations > 64)
     throw Error("WorldDef.relaxIterations", "must be in 0..64");
   if (d.maxRelaxIterations < 0 || d.maxRelaxIterations > 256)

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <functional>
@@ -437,6 +438,11 @@ struct World::Impl {
   double time = 0.0;
   uint64_t steps = 0;
   double lastSubstep = 0.0;  // s: the last step's substep (contactForce)
+  // The substeps of a step of dt: def.substeps, more where they would exceed def.maxSubstep.
+  int substepsFor(double dt) const {
+    const double needed = std::ceil(dt / def.maxSubstep * (1.0 - 1e-9));  // (1/30 / 1/60: 2)
+    return needed > def.substeps ? static_cast<int>(std::min(needed, 1000.0)) : def.substeps;
+  }
   uint32_t nextSleepGroup = 1;
   // Each sleeping island's bodies by its sleep group (updateSleep), so that waking one wakes
   // them without walking every body. A body that left (destroyed, given another type) is

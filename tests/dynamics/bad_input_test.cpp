@@ -100,29 +100,24 @@ TEST(BadInput, ZeroOrNegativeMassesAndSizes) {
   WorldDef wd;
   wd.substeps = 0;
   EXPECT_THROW({ World w(wd); }, Error);
-  for (const char* field : {"contactReuseDistance", "contactReuseAngle"}) {
+  // A WorldDef that `spoil` makes wrong is refused with an error naming `field`.
+  auto expectRefused = [](const char* field, const auto& spoil) {
     WorldDef t;
-    (std::string(field) == "contactReuseAngle" ? t.contactReuseAngle : t.contactReuseDistance) =
-        -1e-3;
+    spoil(t);
     try {
       World w(t);
-      ADD_FAILURE() << field << " -1e-3 was accepted";
+      ADD_FAILURE() << field << " was accepted";
     } catch (const Error& e) {
       EXPECT_NE(std::string(e.what()).find(std::string("WorldDef.") + field), std::string::npos)
           << e.what();
     }
-  }
-  for (int threads : {0, -1, 65}) {
-    WorldDef t;
-    t.workerThreads = threads;
-    try {
-      World w(t);
-      ADD_FAILURE() << "workerThreads " << threads << " was accepted";
-    } catch (const Error& e) {
-      EXPECT_NE(std::string(e.what()).find("WorldDef.workerThreads"), std::string::npos)
-          << e.what();
-    }
-  }
+  };
+  expectRefused("contactReuseDistance", [](WorldDef& t) { t.contactReuseDistance = -1e-3; });
+  expectRefused("contactReuseAngle", [](WorldDef& t) { t.contactReuseAngle = -1e-3; });
+  for (double substep : {0.0, -0.01, kNaN, kInf})
+    expectRefused("maxSubstep", [&](WorldDef& t) { t.maxSubstep = substep; });
+  for (int threads : {0, -1, 65})
+    expectRefused("workerThreads", [&](WorldDef& t) { t.workerThreads = threads; });
 }
 
 TEST(BadInput, UnknownAndStaleIds) {

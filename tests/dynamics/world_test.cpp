@@ -320,6 +320,7 @@ TEST(Incline, ACubeSetOnASlopeSlidesFromItsFirstStep) {
   WorldDef def;
   def.gravity = Vec3(g * std::sin(theta), -g * std::cos(theta), 0);  // the slope's frame
   def.substeps = 1;
+  def.maxSubstep = h;
   World w(def);
   scenes::addGround(w, 1.0, 1.0);
   BodyDef d;
@@ -382,6 +383,23 @@ TEST(Stack, TenBoxesSettleAndThenDriftLessThanOneMillimetre) {
   const StackRun r = runStack(10, 10.0);
   EXPECT_LT(r.settle, 2e-3) << "top sank " << r.settle * 1e3 << " mm while settling";
   EXPECT_LT(r.drift, 1e-3) << "top drifted " << r.drift * 1e3 << " mm";
+}
+
+// A frame hitch passed as one step (0.5 s; a VR runtime that stalls) cuts itself into
+// substeps of at most WorldDef::maxSubstep: the settled 10-box stack stands through it. In
+// four substeps of 0.125 s its top fell 1.2 m.
+TEST(Stack, AHalfSecondStepDoesNotToppleIt) {
+  World w;
+  scenes::addGround(w);
+  const std::vector<BodyId> stack = scenes::addBoxStack(w, 10, 0.1, 1.0);
+  for (int i = 0; i < 60; ++i) w.step(1.0 / 60.0);
+  const Vec3 top = w.pose(stack.back()).p;
+  w.wake(stack.back());
+  w.step(0.5);
+  EXPECT_EQ(w.stats().awakeBodies, 10);
+  for (int i = 0; i < 120; ++i) w.step(1.0 / 60.0);
+  EXPECT_LT((w.pose(stack.back()).p - top).norm(), 0.1);
+  EXPECT_NEAR(w.pose(stack.back()).p.y(), top.y(), 0.01);
 }
 
 TEST(Stack, TwentyBoxesStandWithFourRelaxIterations) {

@@ -167,6 +167,8 @@ void parseWorld(const json& j, const std::string& path, Scene& s) {
   opt(j, path, "contactReuseDistance", [&](const json& v, const std::string& p) {
     s.world.contactReuseDistance = nonNegative(v, p);
   });
+  // The scene's own step and substeps are kept; only a longer step would be cut finer.
+  s.world.maxSubstep = std::max(s.world.maxSubstep, s.dt / s.world.substeps);
 }
 
 MaterialDef parseMaterial(const json& j, const std::string& path, MaterialDef m) {
