@@ -219,6 +219,13 @@ BodyId World::createBody(const BodyDef& d) {
   return BodyId{slot, impl_->bodies[slot].generation};
 }
 
+void World::Impl::wakeContactPartners(uint32_t slot) {
+  contacts.forEach([&](const detail::ContactManifold& c) {
+    if (c.bodyA == slot) wakeBody(c.bodyB);
+    if (c.bodyB == slot) wakeBody(c.bodyA);
+  });
+}
+
 template <class Drops>
 void World::Impl::dropContacts(const Drops& drops) {
   for (auto& r : contacts.run) {
@@ -239,10 +246,7 @@ void World::destroyBody(BodyId id) {
   impl_->destroyJointsOf(id.index);
   // Wake whatever rested on it, then drop its contacts and overlaps (their ends reported by
   // the next step).
-  impl_->contacts.forEach([&](const detail::ContactManifold& c) {
-    if (c.bodyA == id.index) impl_->wakeBody(c.bodyB);
-    if (c.bodyB == id.index) impl_->wakeBody(c.bodyA);
-  });
+  impl_->wakeContactPartners(id.index);
   impl_->dropContacts(
       [&](const detail::ContactManifold& c) { return c.bodyA == id.index || c.bodyB == id.index; });
   std::erase_if(impl_->sensorPairs, [&](const detail::SensorPair& p) {
@@ -303,10 +307,7 @@ void World::setBodyType(BodyId id, BodyType type) {
     const Body &A = impl_->bodies[c.bodyA], &B = impl_->bodies[c.bodyB];
     return !A.isDynamic() && !B.isDynamic() && !A.sensor && !B.sensor;
   };
-  impl_->contacts.forEach([&](const detail::ContactManifold& c) {
-    if (c.bodyA == id.index) impl_->wakeBody(c.bodyB);
-    if (c.bodyB == id.index) impl_->wakeBody(c.bodyA);
-  });
+  impl_->wakeContactPartners(id.index);
   impl_->dropContacts(noPair);
   impl_->wakeBody(id.index);
 }

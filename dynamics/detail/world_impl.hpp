@@ -618,6 +618,7 @@ struct World::Impl {
   const detail::Body& body(BodyId id, const char* field) const;
   BodyId idOf(uint32_t slot) const { return BodyId{slot, bodies[slot].generation}; }
   ContactEvent contactEvent(const detail::ContactManifold& c) const;
+  void wakeContactPartners(uint32_t slot);  // every body with a contact with it
   // Takes away the manifolds `drops` picks (between steps), each touching pair's end queued
   // in droppedEnds.
   template <class Drops>
